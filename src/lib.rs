@@ -1,1 +1,9 @@
+//! physframes: simulate 2-D bodies under forces and render every frame to PNG.
+//!
+//! Data flows one way: a scene file is parsed and validated into a [`scene::Scene`]; the
+//! scene builds a [`sim::Simulation`]; the simulation yields the state at every frame
+//! time; the renderer draws each state into a pixmap; the output stage encodes it to PNG
+//! and writes it atomically. The simulation never imports the renderer, and the renderer
+//! only reads simulation state.
 
+pub mod sim;

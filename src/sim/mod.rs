@@ -1,0 +1,21 @@
+//! The simulation: the flat state of every body, the forces acting on them, and the
+//! integrators that advance them in time.
+//!
+//! Data flows one way through this module: a validated [`crate::scene::Scene`] builds a
+//! [`System`] (masses and forces, fixed for the run) and a [`State`] (time, positions and
+//! velocities, advanced every step). An [`Integrator`] advances the state using only the
+//! accelerations the system reports. Nothing here knows that frames or pixels exist.
+//!
+//! Hot data lives in flat arrays indexed by body: `State::pos`, `State::vel`, the force
+//! buffers inside the integrators, and `System::inv_mass`. Cold data (names, colours,
+//! shapes) stays in the scene.
+
+pub mod forces;
+pub mod integrators;
+mod simulation;
+mod system;
+
+pub use forces::{Anchor, ForceSpec, Selection};
+pub use integrators::{Integrator, IntegratorKind, Stepper};
+pub use simulation::{BlowUp, Simulation};
+pub use system::{State, System};
