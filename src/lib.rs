@@ -6,4 +6,10 @@
 //! and writes it atomically. The simulation never imports the renderer, and the renderer
 //! only reads simulation state.
 
+pub mod cli;
+pub mod error;
+pub mod output;
+pub mod pipeline;
+pub mod render;
+pub mod scene;
 pub mod sim;

@@ -1,1 +1,5 @@
-fn main() {}
+//! The `physframes` command. All the work is in the library; see `physframes --help`.
+
+fn main() -> std::process::ExitCode {
+    physframes::cli::main()
+}

@@ -212,9 +212,7 @@ impl ForceSet {
     /// Returns the total potential energy of the forces at time `t`, or `None` when a
     /// force without a potential (drag, time-varying force, damped spring) is present.
     pub fn potential_energy(&self, _t: f64, pos: &[DVec2], mass: &[f64]) -> Option<f64> {
-        if !self.drag.is_empty()
-            || !self.quadratic_drag.is_empty()
-            || !self.time_varying.is_empty()
+        if !self.drag.is_empty() || !self.quadratic_drag.is_empty() || !self.time_varying.is_empty()
         {
             return None;
         }

@@ -49,8 +49,7 @@ impl Spring {
         let len = len_sq.sqrt();
         let u = d / len;
         // F_a = -stiffness·(ℓ - rest_length)·u - damping·(v_rel·u)·u.
-        -(self.stiffness * (len - self.rest_length) + self.damping * relative_velocity.dot(u))
-            * u
+        -(self.stiffness * (len - self.rest_length) + self.damping * relative_velocity.dot(u)) * u
     }
 
     /// Adds the spring's force to both ends.

@@ -1,0 +1,73 @@
+//! `physframes check`.
+
+use clap::Args;
+
+use super::SceneArgs;
+use crate::error::Result;
+use crate::scene::Shape;
+
+#[derive(Debug, Args)]
+pub struct CheckArgs {
+    #[command(flatten)]
+    scene: SceneArgs,
+}
+
+pub fn run(args: CheckArgs) -> Result<()> {
+    let scene = args.scene.load()?;
+    let mut out = String::new();
+    macro_rules! outln {
+        ($out:ident, $($arg:tt)*) => {{
+            use std::fmt::Write as _;
+            let _ = writeln!($out, $($arg)*);
+        }};
+    }
+    let s = &scene.simulation;
+    let r = &scene.render;
+    outln!(
+        out,
+        "scene `{}` ({}) is valid",
+        scene.name,
+        scene.source.path.display()
+    );
+    outln!(
+        out,
+        "  simulation: {} with dt = {}, duration {} s, {} steps",
+        s.integrator,
+        s.dt,
+        s.duration,
+        scene.total_steps()
+    );
+    outln!(
+        out,
+        "  frames: {} at {} fps ({} steps a frame), {}×{} pixels",
+        r.frame_count,
+        r.fps,
+        r.steps_per_frame,
+        r.width,
+        r.height
+    );
+    outln!(out, "  bodies: {}", scene.bodies.len());
+    for b in &scene.bodies {
+        let shape = match &b.shape {
+            Shape::Circle { radius } => format!("circle r = {radius}"),
+            Shape::Box { width, height } => format!("box {width} × {height}"),
+            Shape::Polygon { points } => format!("polygon of {} points", points.len()),
+            Shape::Points { points } => format!("{} point masses", points.len()),
+        };
+        outln!(
+            out,
+            "    {}: mass {}, centre of mass ({}, {}), velocity ({}, {}), {shape}",
+            b.name,
+            b.mass,
+            b.position.x,
+            b.position.y,
+            b.velocity.x,
+            b.velocity.y
+        );
+    }
+    outln!(out, "  forces: {}", scene.forces.len());
+    for f in &scene.forces {
+        outln!(out, "    {}", f.kind_name());
+    }
+    super::say(&out)
+}

@@ -1,0 +1,70 @@
+//! `physframes export`.
+
+use std::io::{BufWriter, Write};
+use std::path::PathBuf;
+
+use clap::Args;
+
+use super::SceneArgs;
+use crate::error::{Error, Result};
+use crate::output::write_trajectory;
+use crate::pipeline::blow_up_message;
+
+#[derive(Debug, Args)]
+pub struct ExportArgs {
+    #[command(flatten)]
+    scene: SceneArgs,
+    /// Write the CSV to this file instead of standard output.
+    #[arg(long, value_name = "FILE")]
+    out: Option<PathBuf>,
+    /// Write a row per body after every step, not only at frame times.
+    #[arg(long)]
+    every_step: bool,
+}
+
+pub fn run(args: ExportArgs) -> Result<()> {
+    let scene = args.scene.load()?;
+    let blow_up = match &args.out {
+        None => {
+            let stdout = std::io::stdout();
+            let mut out = BufWriter::new(stdout.lock());
+            match write_trajectory(&scene, args.every_step, &mut out)
+                .and_then(|b| out.flush().map(|()| b))
+            {
+                Ok(b) => b,
+                // A reader that closed the pipe (as `| head` does) has all it wanted.
+                Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => None,
+                Err(e) => return Err(Error::io("cannot write to", "standard output", e)),
+            }
+        }
+        Some(path) => {
+            // Write beside the target, then rename, so the CSV is never half-written.
+            let dir = path
+                .parent()
+                .filter(|p| !p.as_os_str().is_empty())
+                .unwrap_or(std::path::Path::new("."));
+            let tmp = tempfile::Builder::new()
+                .prefix(".physframes-")
+                .suffix(".tmp")
+                .tempfile_in(dir)
+                .map_err(|e| Error::io("cannot create a temporary file in", dir, e))?;
+            let mut out = BufWriter::new(tmp);
+            let b = write_trajectory(&scene, args.every_step, &mut out)
+                .map_err(|e| Error::io("cannot write", path.clone(), e))?;
+            let tmp = out
+                .into_inner()
+                .map_err(|e| Error::io("cannot write", path.clone(), e.into_error()))?;
+            tmp.persist(path).map_err(|e| {
+                Error::io("cannot move the finished file to", path.clone(), e.error)
+            })?;
+            b
+        }
+    };
+    match blow_up {
+        Some(b) => Err(Error::BlowUp(format!(
+            "{}\nthe rows before it were written",
+            blow_up_message(&scene, &b)
+        ))),
+        None => Ok(()),
+    }
+}

@@ -1,0 +1,160 @@
+//! The command line: clap definitions, and one handler per subcommand.
+//!
+//! Raw flags are turned into checked options here; the library does the work. Every
+//! error is printed once, with its cause, and mapped to a documented exit code.
+
+mod check;
+mod export;
+mod render;
+
+use std::ops::Range;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand};
+
+use crate::error::{exit, Error, Result};
+use crate::scene::Scene;
+use crate::sim::IntegratorKind;
+
+/// Simulate 2-D bodies under forces and render every frame to PNG.
+#[derive(Debug, Parser)]
+#[command(name = "physframes", version, about, long_about = None)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Simulate a scene and write every frame as PNG, with a manifest.
+    Render(render::RenderArgs),
+    /// Validate a scene and print a summary of it.
+    Check(check::CheckArgs),
+    /// Simulate a scene and write its trajectory as CSV, drawing nothing.
+    Export(export::ExportArgs),
+}
+
+/// Flags shared by the commands that load a scene.
+#[derive(Debug, Args)]
+struct SceneArgs {
+    /// The scene file (TOML).
+    scene: PathBuf,
+    /// Use this integrator instead of the scene's.
+    #[arg(long, value_name = "NAME")]
+    integrator: Option<String>,
+}
+
+impl SceneArgs {
+    /// Loads and validates the scene, applying command-line overrides.
+    fn load(&self) -> Result<Scene> {
+        let mut scene = Scene::load(&self.scene)?;
+        if let Some(name) = &self.integrator {
+            scene.simulation.integrator = name.parse::<IntegratorKind>().map_err(Error::Usage)?;
+        }
+        Ok(scene)
+    }
+}
+
+/// Parses a frame range: `A..B` (half-open), `A..=B`, `A..`, `..B`, or one frame `A`.
+/// An open end stands for the scene's frame count.
+fn parse_frames(text: &str, frame_count: u64) -> Result<Range<u64>> {
+    let bad = || {
+        Error::Usage(format!(
+            "--frames `{text}` is not a range; write A..B (B excluded), A..=B, A.., ..B or A"
+        ))
+    };
+    let number = |s: &str| s.trim().parse::<u64>().map_err(|_| bad());
+    let range = if let Some((a, b)) = text.split_once("..=") {
+        let a = if a.is_empty() { 0 } else { number(a)? };
+        a..number(b)?.checked_add(1).ok_or_else(bad)?
+    } else if let Some((a, b)) = text.split_once("..") {
+        let a = if a.is_empty() { 0 } else { number(a)? };
+        let b = if b.is_empty() {
+            frame_count
+        } else {
+            number(b)?
+        };
+        a..b
+    } else {
+        let a = number(text)?;
+        a..a.saturating_add(1)
+    };
+    if range.start >= range.end || range.end > frame_count {
+        return Err(Error::Usage(format!(
+            "--frames {text} asks for frames {}..{} but the scene has frames 0..{frame_count} (0..={})",
+            range.start,
+            range.end,
+            frame_count - 1
+        )));
+    }
+    Ok(range)
+}
+
+/// Writes text to standard output. A closed pipe (as with `| head`) is not an error
+/// worth a panic: the reader has all it wanted.
+fn say(text: &str) -> Result<()> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(Error::io("cannot write to", "standard output", e))
+        }
+        _ => Ok(()),
+    }
+}
+
+/// Runs the command line and returns the process's exit code.
+pub fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            // clap prints help and version to stdout with success, and usage errors to
+            // stderr with exit code 2.
+            let _ = e.print();
+            return ExitCode::from(if e.use_stderr() {
+                exit::BAD_INPUT
+            } else {
+                exit::SUCCESS
+            });
+        }
+    };
+    match run(cli) {
+        Ok(()) => ExitCode::from(exit::SUCCESS),
+        Err(e) => {
+            let text = e.to_string();
+            if matches!(e, Error::Scene(_)) {
+                eprint!("{text}");
+            } else {
+                eprintln!("error: {text}");
+            }
+            ExitCode::from(e.exit_code())
+        }
+    }
+}
+
+fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Render(args) => render::run(args),
+        Command::Check(args) => check::run(args),
+        Command::Export(args) => export::run(args),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_frames;
+
+    #[test]
+    fn frame_ranges_follow_rust() {
+        assert_eq!(parse_frames("0..10", 151).ok(), Some(0..10));
+        assert_eq!(parse_frames("5..=10", 151).ok(), Some(5..11));
+        assert_eq!(parse_frames("140..", 151).ok(), Some(140..151));
+        assert_eq!(parse_frames("..3", 151).ok(), Some(0..3));
+        assert_eq!(parse_frames("7", 151).ok(), Some(7..8));
+        assert!(parse_frames("10..5", 151).is_err());
+        assert!(parse_frames("0..152", 151).is_err());
+        assert!(parse_frames("0..=151", 151).is_err());
+        assert!(parse_frames("a..b", 151).is_err());
+    }
+}

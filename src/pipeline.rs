@@ -1,0 +1,333 @@
+//! The render pipeline: the simulation steps on one thread and hands the state at each
+//! frame time through a bounded queue to a pool of threads that draw, encode and write.
+//!
+//! Files are named by frame number, so the order in which workers finish does not
+//! matter, and each frame is drawn only from its own snapshot, so the bytes are the
+//! same whatever the number of threads. The queue is bounded, so memory does not grow
+//! with the number of frames (trails, when asked for, keep one position per body per
+//! frame, which they need).
+
+use std::ops::Range;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+use glam::DVec2;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use crate::error::{Error, Result};
+use crate::output::{self, Failure, Manifest, Timings};
+use crate::render::{encode_png, ArrowScales, Compression, FrameView, Provenance, Renderer};
+use crate::scene::Scene;
+use crate::sim::{BlowUp, IntegratorKind, Simulation};
+
+/// What to render and how.
+#[derive(Clone, Debug)]
+pub struct RenderOptions {
+    /// The folder frames and the manifest go to.
+    pub out_dir: PathBuf,
+    /// The frames to draw, half-open; `None` draws them all.
+    pub frames: Option<Range<u64>>,
+    /// Threads that draw and encode; 0 means one per core.
+    pub threads: usize,
+    pub compression: Compression,
+    /// Whether to show a progress bar (it is hidden anyway when stderr is no terminal).
+    pub progress: bool,
+}
+
+/// What a finished render did.
+#[derive(Clone, Debug)]
+pub struct RenderReport {
+    pub manifest: Manifest,
+    pub manifest_path: PathBuf,
+}
+
+/// One frame's snapshot, handed from the simulation to a worker.
+struct Job {
+    index: u64,
+    t: f64,
+    pos: Arc<[DVec2]>,
+    vel: Vec<DVec2>,
+    force: Option<Vec<DVec2>>,
+    /// Positions at frames 0 ..= index, when trails are on.
+    trail: Option<Vec<Arc<[DVec2]>>>,
+}
+
+/// Stage times summed over the workers, in nanoseconds.
+#[derive(Default)]
+struct StageClock {
+    draw: AtomicU64,
+    encode: AtomicU64,
+    write: AtomicU64,
+}
+
+impl StageClock {
+    fn add(counter: &AtomicU64, since: Instant) -> Instant {
+        let now = Instant::now();
+        counter.fetch_add((now - since).as_nanos() as u64, Ordering::Relaxed);
+        now
+    }
+}
+
+/// Returns the provenance written into every frame of a scene.
+pub fn provenance(scene: &Scene, integrator: IntegratorKind, t: f64, frame: u64) -> Provenance {
+    Provenance::default()
+        .with(
+            "Software",
+            format!("physframes {}", env!("CARGO_PKG_VERSION")),
+        )
+        .with("physframes:scene", &scene.name)
+        .with("physframes:scene-hash", &scene.source.hash)
+        .with("physframes:integrator", integrator)
+        .with("physframes:dt", scene.simulation.dt)
+        .with("physframes:t", t)
+        .with("physframes:frame", frame)
+}
+
+/// Renders a scene's frames into `options.out_dir` and writes its manifest.
+///
+/// On a numerical blow-up the frames already written stay valid, the manifest records
+/// the failure, and the error is [`Error::BlowUp`].
+pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderReport> {
+    let wall = Instant::now();
+    let frame_count = scene.render.frame_count;
+    let range = options.frames.clone().unwrap_or(0..frame_count);
+    if range.start >= range.end || range.end > frame_count {
+        return Err(Error::Usage(format!(
+            "--frames {}..{} is outside the scene's frames 0..{frame_count}",
+            range.start, range.end
+        )));
+    }
+    let dir = &options.out_dir;
+    std::fs::create_dir_all(dir).map_err(|e| Error::io("cannot create", dir, e))?;
+    if options.frames.is_none() {
+        // Frames of an earlier, longer run of this scene must not stay mixed in.
+        output::remove_frames(dir, |k| k >= frame_count)?;
+    }
+
+    let integrator = scene.simulation.integrator;
+    let mut sim = Simulation::new(
+        scene.system(),
+        scene.initial_state(),
+        integrator,
+        scene.simulation.dt,
+    );
+    let mut force = vec![DVec2::ZERO; scene.bodies.len()];
+    sim.net_forces(&mut force);
+    let arrows = ArrowScales::fit(scene, &sim.state().vel, &force);
+    let renderer = Renderer::new(scene, arrows);
+    let needs_forces = renderer.needs_forces();
+    let trails = scene.render.trails;
+
+    let threads = match options.threads {
+        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        n => n,
+    };
+    let progress = progress_bar(options.progress, range.end - range.start);
+    let clock = StageClock::default();
+    let stop = AtomicBool::new(false);
+    let first_error: Mutex<Option<Error>> = Mutex::new(None);
+    let written = AtomicU64::new(0);
+    let (sender, receiver) = crossbeam_channel::bounded::<Job>(2 * threads);
+    let mut simulate = Duration::ZERO;
+    let mut blow_up: Option<(BlowUp, u64)> = None;
+
+    std::thread::scope(|scope| {
+        for _ in 0..threads {
+            let receiver = receiver.clone();
+            let (renderer, clock, stop, first_error, written, progress) =
+                (&renderer, &clock, &stop, &first_error, &written, &progress);
+            scope.spawn(move || {
+                for job in receiver {
+                    if stop.load(Ordering::Relaxed) {
+                        continue;
+                    }
+                    match draw_and_write(scene, integrator, renderer, &job, dir, options, clock) {
+                        Ok(()) => {
+                            written.fetch_add(1, Ordering::Relaxed);
+                            progress.inc(1);
+                        }
+                        Err(e) => {
+                            stop.store(true, Ordering::Relaxed);
+                            let mut slot = first_error.lock().unwrap_or_else(|p| p.into_inner());
+                            slot.get_or_insert(e);
+                        }
+                    }
+                }
+            });
+        }
+        drop(receiver);
+
+        // The simulation runs only as far as the last frame asked for.
+        let mut history: Vec<Arc<[DVec2]>> = Vec::new();
+        for k in 0..range.end {
+            if stop.load(Ordering::Relaxed) {
+                break;
+            }
+            let started = Instant::now();
+            if let Err(e) = sim.advance_to(scene.frame_time(k)) {
+                simulate += started.elapsed();
+                blow_up = Some((e, k));
+                break;
+            }
+            let state = sim.state();
+            let pos: Arc<[DVec2]> = Arc::from(state.pos.as_slice());
+            if trails {
+                history.push(Arc::clone(&pos));
+            }
+            if k < range.start {
+                simulate += started.elapsed();
+                continue;
+            }
+            let force = needs_forces.then(|| {
+                let mut f = vec![DVec2::ZERO; state.len()];
+                sim.net_forces(&mut f);
+                f
+            });
+            let job = Job {
+                index: k,
+                t: state.t,
+                pos,
+                vel: state.vel.clone(),
+                force,
+                trail: trails.then(|| history.clone()),
+            };
+            simulate += started.elapsed();
+            if sender.send(job).is_err() {
+                break;
+            }
+        }
+        drop(sender);
+    });
+    progress.finish_and_clear();
+
+    let frames_written = written.load(Ordering::Relaxed);
+    let nanos = |c: &AtomicU64| c.load(Ordering::Relaxed) as f64 * 1e-9;
+    let timings = Timings {
+        simulate_s: simulate.as_secs_f64(),
+        draw_s: nanos(&clock.draw),
+        encode_s: nanos(&clock.encode),
+        write_s: nanos(&clock.write),
+        wall_s: wall.elapsed().as_secs_f64(),
+    };
+    let io_error = first_error.into_inner().unwrap_or_else(|p| p.into_inner());
+    let failure = match (&blow_up, &io_error) {
+        (Some((b, k)), _) => {
+            // Frames from an earlier run past the blow-up would be mixed in: remove them.
+            let end = range.end;
+            output::remove_frames(dir, |j| j >= *k && j < end)?;
+            Some(Failure {
+                kind: "blow-up".into(),
+                message: blow_up_message(scene, b),
+                body: Some(scene.bodies[b.body].name.clone()),
+                step: Some(b.step),
+                t: Some(b.t),
+            })
+        }
+        (None, Some(e)) => Some(Failure {
+            kind: "error".into(),
+            message: e.to_string(),
+            body: None,
+            step: None,
+            t: None,
+        }),
+        (None, None) => None,
+    };
+    let manifest = Manifest {
+        scene: scene.name.clone(),
+        scene_file: scene.source.path.display().to_string(),
+        scene_hash: scene.source.hash.clone(),
+        integrator: integrator.to_string(),
+        dt: scene.simulation.dt,
+        fps: scene.render.fps,
+        steps_per_frame: scene.render.steps_per_frame,
+        frame_count,
+        frames_requested: [range.start, range.end],
+        frames_written,
+        width: scene.render.width,
+        height: scene.render.height,
+        program_version: env!("CARGO_PKG_VERSION").to_string(),
+        status: if failure.is_none() {
+            "complete"
+        } else {
+            "failed"
+        }
+        .into(),
+        failure,
+        timings,
+    };
+    let manifest_path = dir.join("manifest.json");
+    let json = serde_json::to_string_pretty(&manifest)
+        .map_err(|e| Error::Runtime(format!("cannot serialise the manifest: {e}")))?;
+    output::write_atomic(&manifest_path, format!("{json}\n").as_bytes())?;
+    if let Some(e) = io_error {
+        return Err(e);
+    }
+    if let Some((b, _)) = blow_up {
+        return Err(Error::BlowUp(format!(
+            "{}\n{frames_written} frames written before it stay valid; see {}",
+            blow_up_message(scene, &b),
+            manifest_path.display()
+        )));
+    }
+    Ok(RenderReport {
+        manifest,
+        manifest_path,
+    })
+}
+
+/// Draws, encodes and writes one frame, adding each stage's time to the clock.
+fn draw_and_write(
+    scene: &Scene,
+    integrator: IntegratorKind,
+    renderer: &Renderer,
+    job: &Job,
+    dir: &std::path::Path,
+    options: &RenderOptions,
+    clock: &StageClock,
+) -> Result<()> {
+    let started = Instant::now();
+    let view = FrameView {
+        index: job.index,
+        t: job.t,
+        pos: &job.pos,
+        vel: &job.vel,
+        force: job.force.as_deref(),
+        trail: job.trail.as_deref(),
+    };
+    let pixmap = renderer.draw(&view);
+    let drawn = StageClock::add(&clock.draw, started);
+    let png = encode_png(
+        &pixmap,
+        &provenance(scene, integrator, job.t, job.index),
+        options.compression,
+    )
+    .map_err(|e| Error::Runtime(format!("cannot encode frame {}: {e}", job.index)))?;
+    let encoded = StageClock::add(&clock.encode, drawn);
+    output::write_atomic(&dir.join(output::frame_file_name(job.index)), &png)?;
+    StageClock::add(&clock.write, encoded);
+    Ok(())
+}
+
+/// Describes a blow-up for a person: which body, which step, and what to change.
+pub fn blow_up_message(scene: &Scene, b: &BlowUp) -> String {
+    let body = &scene.bodies[b.body];
+    format!(
+        "the simulation blew up: the {} of body `{}` became non-finite at step {} (t = {}) with integrator {} and dt = {}\nhint: a smaller dt, or a more stable integrator, keeps it finite; for explicit Euler with linear drag k on mass m, stability needs dt ≤ 2·m/k",
+        b.quantity, body.name, b.step, b.t, scene.simulation.integrator, scene.simulation.dt
+    )
+}
+
+fn progress_bar(show: bool, len: u64) -> ProgressBar {
+    if !show {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
+    if let Ok(style) = ProgressStyle::with_template(
+        "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} frames ({per_sec}, {eta} left)",
+    ) {
+        bar.set_style(style);
+    }
+    bar
+}

@@ -1,0 +1,268 @@
+//! The moving layers: trails, bodies, and velocity and force arrows.
+
+use std::sync::Arc;
+
+use glam::DVec2;
+use tiny_skia::{
+    Color, FillRule, LineCap, LineJoin, Paint, Path, PathBuilder, Pixmap, Stroke, Transform,
+};
+
+use super::camera::Camera;
+use super::clip::ClipRect;
+use crate::scene::{Body, Rgba, Shape};
+
+/// How a body is drawn, prepared once per render in pixel units.
+#[derive(Clone, Debug)]
+pub struct BodyLook {
+    /// The outline around the centre of mass, in pixels (y down).
+    outline: Option<Path>,
+    /// The point masses' discs and the bars joining them to the centre, for bodies of
+    /// point masses.
+    points: Option<(Path, Path)>,
+    fill: Color,
+    edge: Color,
+    trail: Color,
+    /// A radius in pixels that encloses everything drawn for the body.
+    reach: f32,
+    pub show_velocity: bool,
+    pub show_force: bool,
+}
+
+/// Returns a colour from straight RGBA bytes, with alpha scaled by `alpha`.
+pub fn color(c: Rgba, alpha: f32) -> Color {
+    let [r, g, b, a] = c.0;
+    Color::from_rgba8(r, g, b, (f32::from(a) * alpha).round() as u8)
+}
+
+/// Returns a darker shade of a colour, for outlines.
+fn darker(c: Rgba) -> Rgba {
+    let [r, g, b, a] = c.0;
+    let d = |v: u8| (f32::from(v) * 0.6).round() as u8;
+    Rgba([d(r), d(g), d(b), a])
+}
+
+impl BodyLook {
+    /// Prepares the look of a body for a camera.
+    pub fn new(body: &Body, camera: &Camera) -> Self {
+        let s = camera.scale() as f32;
+        let px = |p: DVec2| {
+            let (x, y) = camera.to_pixel_vector(p);
+            (x, y)
+        };
+        let mut reach = 0.0f32;
+        let mut outline = None;
+        let mut points = None;
+        match &body.shape {
+            Shape::Circle { radius } => {
+                let r = (*radius as f32 * s).max(0.5);
+                reach = r;
+                outline = PathBuilder::from_circle(0.0, 0.0, r);
+            }
+            Shape::Box { width, height } => {
+                let (w, h) = ((*width as f32 * s).max(1.0), (*height as f32 * s).max(1.0));
+                reach = 0.5 * (w * w + h * h).sqrt();
+                outline = tiny_skia::Rect::from_xywh(-0.5 * w, -0.5 * h, w, h)
+                    .map(PathBuilder::from_rect);
+            }
+            Shape::Polygon { points } => {
+                let mut pb = PathBuilder::new();
+                for (i, p) in points.iter().enumerate() {
+                    let (x, y) = px(*p);
+                    reach = reach.max((x * x + y * y).sqrt());
+                    if i == 0 {
+                        pb.move_to(x, y);
+                    } else {
+                        pb.line_to(x, y);
+                    }
+                }
+                pb.close();
+                outline = pb.finish();
+            }
+            Shape::Points { points: masses } => {
+                // Each point mass is a disc whose area grows with its mass, from 3 to 9
+                // pixels of radius; thin bars join them to the centre of mass.
+                let heaviest = masses.iter().map(|p| p.mass).fold(0.0, f64::max);
+                let mut discs = PathBuilder::new();
+                let mut bars = PathBuilder::new();
+                for p in masses {
+                    let (x, y) = px(p.offset);
+                    let r = 3.0 + 6.0 * (p.mass / heaviest).sqrt() as f32;
+                    discs.push_circle(x, y, r);
+                    bars.move_to(0.0, 0.0);
+                    bars.line_to(x, y);
+                    reach = reach.max((x * x + y * y).sqrt() + r);
+                }
+                if let (Some(d), Some(b)) = (discs.finish(), bars.finish()) {
+                    points = Some((d, b));
+                }
+                reach = reach.max(6.0);
+            }
+        }
+        BodyLook {
+            outline,
+            points,
+            fill: color(body.color, 1.0),
+            edge: color(darker(body.color), 1.0),
+            trail: color(body.color, 0.55),
+            reach,
+            show_velocity: body.show_velocity,
+            show_force: body.show_force,
+        }
+    }
+
+    /// Returns true when nothing drawn for a body at pixel (x, y) can touch the image.
+    pub fn is_outside(&self, x: f32, y: f32, width: u32, height: u32) -> bool {
+        let r = self.reach + 2.0;
+        x + r < 0.0 || y + r < 0.0 || x - r > width as f32 || y - r > height as f32
+    }
+
+    /// Draws the body with its centre of mass at pixel (x, y).
+    pub fn draw(&self, pixmap: &mut Pixmap, x: f32, y: f32) {
+        let at = Transform::from_translate(x, y);
+        let mut paint = Paint {
+            anti_alias: true,
+            ..Paint::default()
+        };
+        if let Some(outline) = &self.outline {
+            paint.set_color(self.fill);
+            pixmap.fill_path(outline, &paint, FillRule::Winding, at, None);
+            paint.set_color(self.edge);
+            let stroke = Stroke {
+                width: 1.5,
+                line_join: LineJoin::Round,
+                ..Stroke::default()
+            };
+            pixmap.stroke_path(outline, &paint, &stroke, at, None);
+        }
+        if let Some((discs, bars)) = &self.points {
+            paint.set_color(self.edge);
+            let stroke = Stroke {
+                width: 1.5,
+                ..Stroke::default()
+            };
+            pixmap.stroke_path(bars, &paint, &stroke, at, None);
+            paint.set_color(self.fill);
+            pixmap.fill_path(discs, &paint, FillRule::Winding, at, None);
+            paint.set_color(self.edge);
+            pixmap.stroke_path(discs, &paint, &Stroke::default(), at, None);
+            draw_centre_of_mass_marker(pixmap, x, y);
+        }
+    }
+
+    /// Draws the trail through the centre of mass at each earlier frame.
+    pub fn draw_trail(
+        &self,
+        pixmap: &mut Pixmap,
+        camera: &Camera,
+        clip: &ClipRect,
+        frames: &[Arc<[DVec2]>],
+        body: usize,
+    ) {
+        if frames.len() < 2 {
+            return;
+        }
+        let points = frames.iter().map(|f| {
+            let (x, y) = camera.to_pixel_f64(f[body]);
+            (x, y)
+        });
+        let Some(path) = clip.polyline(points) else {
+            return;
+        };
+        let mut paint = Paint {
+            anti_alias: true,
+            ..Paint::default()
+        };
+        paint.set_color(self.trail);
+        let stroke = Stroke {
+            width: 1.5,
+            line_cap: LineCap::Round,
+            line_join: LineJoin::Round,
+            ..Stroke::default()
+        };
+        pixmap.stroke_path(&path, &paint, &stroke, Transform::identity(), None);
+    }
+}
+
+/// Draws the classic centre-of-mass symbol: a circle with two opposite quarters filled.
+fn draw_centre_of_mass_marker(pixmap: &mut Pixmap, x: f32, y: f32) {
+    let r = 5.0;
+    let mut paint = Paint {
+        anti_alias: true,
+        ..Paint::default()
+    };
+    let at = Transform::from_translate(x, y);
+    if let Some(disc) = PathBuilder::from_circle(0.0, 0.0, r) {
+        paint.set_color(Color::WHITE);
+        pixmap.fill_path(&disc, &paint, FillRule::Winding, at, None);
+    }
+    // Two quarter discs: from angle 0 to 90° and from 180° to 270°, as wedges.
+    let mut pb = PathBuilder::new();
+    for start in [0.0f32, std::f32::consts::PI] {
+        pb.move_to(0.0, 0.0);
+        let steps = 8;
+        for i in 0..=steps {
+            let a = start + std::f32::consts::FRAC_PI_2 * i as f32 / steps as f32;
+            pb.line_to(r * a.cos(), -r * a.sin());
+        }
+        pb.close();
+    }
+    paint.set_color(Color::BLACK);
+    if let Some(wedges) = pb.finish() {
+        pixmap.fill_path(&wedges, &paint, FillRule::Winding, at, None);
+    }
+    if let Some(ring) = PathBuilder::from_circle(0.0, 0.0, r) {
+        pixmap.stroke_path(&ring, &paint, &Stroke::default(), at, None);
+    }
+}
+
+/// Draws an arrow from pixel (x, y) along the pixel vector (dx, dy), with a head whose
+/// size follows the stroke width but never exceeds half the arrow's length. The shaft
+/// is clipped to the guard band, and the head is drawn only when the tip is inside it.
+pub fn draw_arrow(
+    pixmap: &mut Pixmap,
+    clip: &ClipRect,
+    (x, y): (f64, f64),
+    (dx, dy): (f64, f64),
+    c: Color,
+    width: f32,
+) {
+    let len = (dx * dx + dy * dy).sqrt();
+    if len < 0.5 || !len.is_finite() {
+        return;
+    }
+    let (ux, uy) = (dx / len, dy / len);
+    let head = (4.0 * f64::from(width) + 4.0).min(0.5 * len);
+    let base = (x + dx - ux * head, y + dy - uy * head);
+    let mut paint = Paint {
+        anti_alias: true,
+        ..Paint::default()
+    };
+    paint.set_color(c);
+    if let Some(shaft) = clip.polyline([(x, y), base]) {
+        let stroke = Stroke {
+            width,
+            line_cap: LineCap::Butt,
+            ..Stroke::default()
+        };
+        pixmap.stroke_path(&shaft, &paint, &stroke, Transform::identity(), None);
+    }
+    let tip = (x + dx, y + dy);
+    if !clip.contains(tip.0, tip.1) {
+        return;
+    }
+    let half = 0.5 * head;
+    let mut pb = PathBuilder::new();
+    pb.move_to(tip.0 as f32, tip.1 as f32);
+    pb.line_to((base.0 - uy * half) as f32, (base.1 + ux * half) as f32);
+    pb.line_to((base.0 + uy * half) as f32, (base.1 - ux * half) as f32);
+    pb.close();
+    if let Some(path) = pb.finish() {
+        pixmap.fill_path(
+            &path,
+            &paint,
+            FillRule::Winding,
+            Transform::identity(),
+            None,
+        );
+    }
+}

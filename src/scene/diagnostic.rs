@@ -1,0 +1,138 @@
+//! Scene errors that point at the file, line and column of the offending value.
+
+use std::fmt;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use codespan_reporting::diagnostic::{Diagnostic as Report, Label};
+use codespan_reporting::files::SimpleFile;
+use codespan_reporting::term;
+
+/// One problem found in a scene file.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Diagnostic {
+    /// What is wrong, as a sentence without a final period.
+    pub message: String,
+    /// The bytes of the file the problem is about, when there is such a place.
+    pub span: Option<Range<usize>>,
+    /// A short label printed under the offending value.
+    pub label: String,
+    /// What to change, when there is a clear fix.
+    pub hint: Option<String>,
+}
+
+impl Diagnostic {
+    /// Creates a diagnostic about the value at `span`.
+    pub fn at(span: Range<usize>, message: impl Into<String>) -> Self {
+        Diagnostic {
+            message: message.into(),
+            span: Some(span),
+            label: String::new(),
+            hint: None,
+        }
+    }
+
+    /// Creates a diagnostic about the file as a whole.
+    pub fn whole_file(message: impl Into<String>) -> Self {
+        Diagnostic {
+            message: message.into(),
+            span: None,
+            label: String::new(),
+            hint: None,
+        }
+    }
+
+    /// Adds a label under the offending value.
+    pub fn label(mut self, label: impl Into<String>) -> Self {
+        self.label = label.into();
+        self
+    }
+
+    /// Adds a hint saying what to change.
+    pub fn hint(mut self, hint: impl Into<String>) -> Self {
+        self.hint = Some(hint.into());
+        self
+    }
+}
+
+/// Every problem found in one scene file, with the text needed to show where.
+#[derive(Clone, Debug)]
+pub struct SceneError {
+    /// The scene file's path as the user gave it.
+    pub path: PathBuf,
+    /// The text of the file.
+    pub text: String,
+    /// The problems, in the order they appear in the file.
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+impl SceneError {
+    /// Creates an error for `path`, sorting the diagnostics by position in the file.
+    pub fn new(path: &Path, text: &str, mut diagnostics: Vec<Diagnostic>) -> Self {
+        diagnostics.sort_by_key(|d| d.span.as_ref().map_or(0, |s| s.start));
+        SceneError {
+            path: path.to_path_buf(),
+            text: text.to_string(),
+            diagnostics,
+        }
+    }
+
+    /// Returns `line:column` (both counted from 1) of a byte offset in the file.
+    pub fn line_column(&self, offset: usize) -> (usize, usize) {
+        let offset = offset.min(self.text.len());
+        let before = &self.text[..floor_char_boundary(&self.text, offset)];
+        let line = before.matches('\n').count() + 1;
+        let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+        let column = before[line_start..].chars().count() + 1;
+        (line, column)
+    }
+
+    /// Renders every diagnostic like a compiler does: the file, line and column, the
+    /// offending line with a caret under the bad value, and the hint.
+    pub fn render(&self) -> String {
+        let name = self.path.display().to_string();
+        let file = SimpleFile::new(name.as_str(), self.text.as_str());
+        let config = term::Config::default();
+        let mut out = String::new();
+        for d in &self.diagnostics {
+            let mut report = Report::error().with_message(&d.message);
+            if let Some(span) = &d.span {
+                let start = floor_char_boundary(&self.text, span.start);
+                let end = floor_char_boundary(&self.text, span.end.max(span.start));
+                report = report.with_labels(vec![
+                    Label::primary((), start..end).with_message(d.label.clone())
+                ]);
+            }
+            if let Some(hint) = &d.hint {
+                report = report.with_notes(vec![format!("hint: {hint}")]);
+            }
+            match term::emit_into_string(&config, &file, &report) {
+                Ok(text) => out.push_str(&text),
+                Err(_) => out.push_str(&format!("error: {}: {}\n", name, d.message)),
+            }
+        }
+        let n = self.diagnostics.len();
+        out.push_str(&format!(
+            "error: {name}: {n} problem{} found; nothing was written\n",
+            if n == 1 { "" } else { "s" }
+        ));
+        out
+    }
+}
+
+impl fmt::Display for SceneError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.render())
+    }
+}
+
+impl std::error::Error for SceneError {}
+
+/// Returns the largest char boundary at or below `i`.
+fn floor_char_boundary(s: &str, i: usize) -> usize {
+    let mut i = i.min(s.len());
+    while !s.is_char_boundary(i) {
+        i -= 1;
+    }
+    i
+}

@@ -1,0 +1,226 @@
+//! Scenes: the TOML file format, its validation, and the checked [`Scene`] that the
+//! rest of the program trusts.
+//!
+//! A scene file is read once. [`raw`] gives every value the byte span it came from;
+//! [`validate`] checks every rule and reports all problems with their file, line and
+//! column; what passes is a [`Scene`] in which every number is finite and in range and
+//! every name resolves. Code downstream never re-checks the scene, and a scene that
+//! validates cannot make a step panic.
+
+mod color;
+mod diagnostic;
+pub mod raw;
+mod validate;
+
+use std::path::{Path, PathBuf};
+
+use glam::DVec2;
+
+pub use color::Rgba;
+pub use diagnostic::{Diagnostic, SceneError};
+pub use validate::{parse, MAX_FRAMES, MAX_IMAGE_SIDE};
+
+use crate::sim::{ForceSpec, IntegratorKind, State, System};
+
+/// A validated scene, ready to simulate and render.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    /// The scene's name: the `name` key, or the file's stem.
+    pub name: String,
+    /// Where the scene came from.
+    pub source: Source,
+    /// How to integrate.
+    pub simulation: SimulationSettings,
+    /// How to draw.
+    pub render: RenderSettings,
+    /// The bodies, in file order; a body's index is its position here.
+    pub bodies: Vec<Body>,
+    /// The forces, in file order.
+    pub forces: Vec<ForceSpec>,
+}
+
+/// Where a scene came from.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Source {
+    /// The path the user gave.
+    pub path: PathBuf,
+    /// The SHA-256 of the file's bytes, in lowercase hexadecimal.
+    pub hash: String,
+}
+
+/// The `[simulation]` table, checked.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SimulationSettings {
+    /// The integration method.
+    pub integrator: IntegratorKind,
+    /// The step h.
+    pub dt: f64,
+    /// The simulated time asked for.
+    pub duration: f64,
+}
+
+/// The `[render]` table, checked, with the frame timing derived from it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderSettings {
+    /// Image width in pixels, 1 to 16384.
+    pub width: u32,
+    /// Image height in pixels, 1 to 16384.
+    pub height: u32,
+    /// Frames per second of simulated time.
+    pub fps: f64,
+    /// The world rectangle to show.
+    pub view: View,
+    /// The background colour.
+    pub background: Rgba,
+    /// Whether to draw the path of each centre of mass so far.
+    pub trails: bool,
+    /// World length of a velocity arrow per unit of speed; `None` fits it to the
+    /// fastest body at t = 0.
+    pub velocity_scale: Option<f64>,
+    /// World length of a force arrow per unit of force; `None` fits it to the
+    /// largest force at t = 0.
+    pub force_scale: Option<f64>,
+    /// Steps between two frames: 1/fps = steps_per_frame·dt.
+    pub steps_per_frame: u64,
+    /// Number of frames: k = 0 ..= floor(duration·fps).
+    pub frame_count: u64,
+}
+
+/// A rectangle of the world, min < max on both axes; y points up.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct View {
+    pub min: DVec2,
+    pub max: DVec2,
+}
+
+impl View {
+    /// Returns the pixels per world unit that fit this view inside a `width` × `height`
+    /// image with square world units: s = min(W / view width, H / view height).
+    pub fn fit_scale(&self, width: u32, height: u32) -> f64 {
+        let extent = self.max - self.min;
+        (f64::from(width) / extent.x).min(f64::from(height) / extent.y)
+    }
+}
+
+impl Shape {
+    /// Returns the distance from the centre of mass to the farthest point of the
+    /// shape, in world units.
+    pub fn reach(&self) -> f64 {
+        match self {
+            Shape::Circle { radius } => *radius,
+            Shape::Box { width, height } => 0.5 * width.hypot(*height),
+            Shape::Polygon { points } => points.iter().map(|p| p.length()).fold(0.0, f64::max),
+            Shape::Points { points } => {
+                points.iter().map(|p| p.offset.length()).fold(0.0, f64::max)
+            }
+        }
+    }
+}
+
+/// The largest size a body may have on screen, in pixels. Far larger shapes are
+/// certainly a mistake of units, and would overflow the rasteriser's fixed-point
+/// arithmetic.
+pub const MAX_SHAPE_PIXELS: f64 = 1e6;
+
+/// One body: hot initial state for the simulation, cold looks for the renderer.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Body {
+    pub name: String,
+    /// The total mass M.
+    pub mass: f64,
+    /// The initial position of the centre of mass.
+    pub position: DVec2,
+    /// The initial velocity of the centre of mass.
+    pub velocity: DVec2,
+    /// What to draw, relative to the centre of mass.
+    pub shape: Shape,
+    pub color: Rgba,
+    pub show_velocity: bool,
+    pub show_force: bool,
+}
+
+/// A body's outline, in world units relative to its centre of mass.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Shape {
+    Circle {
+        radius: f64,
+    },
+    Box {
+        width: f64,
+        height: f64,
+    },
+    /// A polygon of uniform density; vertices relative to its area centroid.
+    Polygon {
+        points: Vec<DVec2>,
+    },
+    /// A body made of point masses; offsets relative to the centre of mass.
+    Points {
+        points: Vec<PointMass>,
+    },
+}
+
+/// One point mass of a body.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointMass {
+    /// The offset from the body's centre of mass.
+    pub offset: DVec2,
+    pub mass: f64,
+}
+
+impl Scene {
+    /// Reads and validates a scene file.
+    pub fn load(path: &Path) -> Result<Scene, LoadError> {
+        let bytes = std::fs::read(path).map_err(|e| LoadError::Io {
+            path: path.to_path_buf(),
+            source: e,
+        })?;
+        let text = String::from_utf8(bytes).map_err(|e| LoadError::Io {
+            path: path.to_path_buf(),
+            source: std::io::Error::new(std::io::ErrorKind::InvalidData, e),
+        })?;
+        parse(path, &text).map_err(LoadError::Invalid)
+    }
+
+    /// Returns the time of frame k, t = k·steps_per_frame·dt (= k/fps to 1e-9).
+    pub fn frame_time(&self, k: u64) -> f64 {
+        (k * self.render.steps_per_frame) as f64 * self.simulation.dt
+    }
+
+    /// Returns the total number of steps to reach the last frame.
+    pub fn total_steps(&self) -> u64 {
+        (self.render.frame_count - 1) * self.render.steps_per_frame
+    }
+
+    /// Returns the masses and forces, for the simulation.
+    pub fn system(&self) -> System {
+        System::new(self.bodies.iter().map(|b| b.mass).collect(), &self.forces)
+    }
+
+    /// Returns the state at t = 0.
+    pub fn initial_state(&self) -> State {
+        State {
+            t: 0.0,
+            pos: self.bodies.iter().map(|b| b.position).collect(),
+            vel: self.bodies.iter().map(|b| b.velocity).collect(),
+        }
+    }
+
+    /// Returns the bodies' names, indexed like the simulation's arrays.
+    pub fn body_names(&self) -> Vec<&str> {
+        self.bodies.iter().map(|b| b.name.as_str()).collect()
+    }
+}
+
+/// Why a scene could not be loaded.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    /// The file could not be read.
+    #[error("cannot read scene file {}: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    /// The file was read but is not a valid scene.
+    #[error("{0}")]
+    Invalid(SceneError),
+}

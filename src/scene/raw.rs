@@ -1,0 +1,129 @@
+//! The scene file's schema as serde reads it: every value keeps the byte span it came
+//! from, so that validation can point at the exact place in the file.
+//!
+//! These types accept anything TOML can say in the right shape; [`super::validate`]
+//! decides what is meaningful. Unknown keys are rejected here, by serde.
+
+use serde::Deserialize;
+use toml::Spanned;
+
+/// A 2-D vector as a scene writes it: `[x, y]`.
+pub type RawVec2 = [f64; 2];
+
+/// The whole scene file.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawScene {
+    pub name: Option<Spanned<String>>,
+    pub simulation: Option<Spanned<RawSimulation>>,
+    pub render: Option<Spanned<RawRender>>,
+    #[serde(default)]
+    pub body: Vec<Spanned<RawBody>>,
+    #[serde(default)]
+    pub force: Vec<Spanned<RawForce>>,
+}
+
+/// The `[simulation]` table.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawSimulation {
+    pub integrator: Option<Spanned<String>>,
+    pub dt: Option<Spanned<f64>>,
+    pub duration: Option<Spanned<f64>>,
+}
+
+/// The `[render]` table.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawRender {
+    pub width: Option<Spanned<i64>>,
+    pub height: Option<Spanned<i64>>,
+    pub fps: Option<Spanned<f64>>,
+    pub view: Option<Spanned<RawView>>,
+    pub background: Option<Spanned<String>>,
+    pub trails: Option<Spanned<bool>>,
+    pub velocity_scale: Option<Spanned<f64>>,
+    pub force_scale: Option<Spanned<f64>>,
+}
+
+/// The world rectangle a frame shows.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawView {
+    pub min: Spanned<RawVec2>,
+    pub max: Spanned<RawVec2>,
+}
+
+/// One `[[body]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawBody {
+    pub name: Option<Spanned<String>>,
+    pub mass: Option<Spanned<f64>>,
+    pub position: Option<Spanned<RawVec2>>,
+    pub velocity: Option<Spanned<RawVec2>>,
+    pub shape: Option<Spanned<RawShape>>,
+    pub points: Option<Spanned<Vec<Spanned<RawPointMass>>>>,
+    pub color: Option<Spanned<String>>,
+    pub show_velocity: Option<Spanned<bool>>,
+    pub show_force: Option<Spanned<bool>>,
+}
+
+/// A body's shape: exactly one of the three keys.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawShape {
+    pub circle: Option<Spanned<RawCircle>>,
+    #[serde(rename = "box")]
+    pub rect: Option<Spanned<RawBox>>,
+    pub polygon: Option<Spanned<RawPolygon>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawCircle {
+    pub radius: Spanned<f64>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawBox {
+    pub width: Spanned<f64>,
+    pub height: Spanned<f64>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawPolygon {
+    pub points: Spanned<Vec<Spanned<RawVec2>>>,
+}
+
+/// One point mass of a body made of points (Equations 7-11).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawPointMass {
+    pub offset: Spanned<RawVec2>,
+    pub mass: Spanned<f64>,
+}
+
+/// One `[[force]]`. Every kind's keys are optional here; validation checks that a kind
+/// gets the keys it needs and no key that belongs to another kind.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawForce {
+    pub kind: Spanned<String>,
+    pub bodies: Option<Spanned<Vec<Spanned<String>>>>,
+    pub g: Option<Spanned<RawVec2>>,
+    pub k: Option<Spanned<f64>>,
+    pub c: Option<Spanned<f64>>,
+    pub f0: Option<Spanned<RawVec2>>,
+    pub f1: Option<Spanned<RawVec2>>,
+    pub a: Option<Spanned<String>>,
+    pub b: Option<Spanned<toml::Value>>,
+    pub stiffness: Option<Spanned<f64>>,
+    pub rest_length: Option<Spanned<f64>>,
+    pub damping: Option<Spanned<f64>>,
+    #[serde(alias = "center")]
+    pub centre: Option<Spanned<RawVec2>>,
+    pub strength: Option<Spanned<f64>>,
+}

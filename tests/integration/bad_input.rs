@@ -1,0 +1,148 @@
+//! Every class of bad input: a clear message that says where, exit code 2, and no
+//! output folder created or changed.
+
+use crate::util::{stderr, Sandbox};
+
+/// A valid scene to break one line at a time.
+const GOOD: &str = r#"name = "t"
+[simulation]
+dt = 0.01
+duration = 1.0
+[render]
+width = 64
+height = 48
+fps = 25
+view = { min = [-1.0, -1.0], max = [1.0, 1.0] }
+[[body]]
+name = "puck"
+mass = 1.0
+velocity = [1.0, 0.0]
+[[force]]
+kind = "drag"
+k = 1.0
+"#;
+
+/// Replaces `from` in the good scene with `to`, checking the replacement happened.
+fn broken(from: &str, to: &str) -> String {
+    assert!(GOOD.contains(from), "the good scene contains `{from}`");
+    GOOD.replacen(from, to, 1)
+}
+
+/// Renders a bad scene and checks exit code 2, the message, the location, and that
+/// nothing was written.
+fn check(case: &str, text: &str, message: &str, location: &str) {
+    let sandbox = Sandbox::new();
+    sandbox.write("bad.toml", text);
+    let out = sandbox.run(&["render", "bad.toml", "--out", "frames"]);
+    let err = stderr(&out);
+    assert_eq!(
+        out.status.code(),
+        Some(2),
+        "{case}: exit code; stderr:\n{err}"
+    );
+    assert!(
+        err.contains(message),
+        "{case}: stderr should contain `{message}`:\n{err}"
+    );
+    assert!(
+        err.contains(&format!("bad.toml:{location}")),
+        "{case}: stderr should point at bad.toml:{location}:\n{err}"
+    );
+    assert!(!err.contains("panicked"), "{case}: a panic:\n{err}");
+    assert!(
+        !sandbox.path("frames").exists(),
+        "{case}: the output folder was created"
+    );
+}
+
+#[test]
+fn the_good_scene_renders() {
+    let sandbox = Sandbox::new();
+    sandbox.write("good.toml", GOOD);
+    let out = sandbox.run(&["render", "good.toml", "--out", "frames"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert_eq!(
+        sandbox.list("frames").len(),
+        26 + 1,
+        "26 frames and the manifest"
+    );
+}
+
+#[test]
+fn each_class_of_bad_input_is_located_and_writes_nothing() {
+    let cases: &[(&str, String, &str, &str)] = &[
+        ("syntax error", broken("duration = 1.0", "duration = = 1.0"), "expected", "4:12"),
+        ("zero mass", broken("mass = 1.0", "mass = 0.0"), "`mass` must be > 0", "12:8"),
+        ("negative mass", broken("mass = 1.0", "mass = -3"), "`mass` must be > 0", "12:8"),
+        ("infinite number", broken("velocity = [1.0, 0.0]", "velocity = [inf, 0.0]"), "`velocity` must be two finite numbers", "13:12"),
+        ("nan", broken("k = 1.0", "k = nan"), "`k` must be a finite number", "16:5"),
+        ("zero dt", broken("dt = 0.01", "dt = 0.0"), "`dt` must be > 0", "3:6"),
+        ("negative duration", broken("duration = 1.0", "duration = -1.0"), "`duration` must be > 0", "4:12"),
+        ("zero fps", broken("fps = 25", "fps = 0"), "`fps` must be > 0", "8:7"),
+        ("unknown body", broken("k = 1.0", "k = 1.0\nbodies = [\"ghost\"]"), "no body is named `ghost`", "17:11"),
+        ("unknown key", broken("mass = 1.0", "mass = 1.0\nmas = 2.0"), "unknown field `mas`", "13:1"),
+        ("unknown force kind", broken("kind = \"drag\"", "kind = \"wind\""), "unknown force kind `wind`", "15:8"),
+        ("mass and points", broken("mass = 1.0", "mass = 1.0\npoints = [{ offset = [0, 0], mass = 1 }]"), "has both `mass` and `points`", "13:10"),
+        ("zero width", broken("width = 64", "width = 0"), "`width` must be from 1 to 16384", "6:9"),
+        ("huge height", broken("height = 48", "height = 16385"), "`height` must be from 1 to 16384", "7:10"),
+        ("too many frames", broken("duration = 1.0", "duration = 40001.0"), "more than the limit of 1000000", ""),
+        ("dt off the frames", broken("dt = 0.01", "dt = 0.015"), "nearest valid values are dt = 0.02 (2 steps a frame) and dt = 0.013333333333333334 (3 steps a frame)", "3:6"),
+        ("spring to itself", broken("kind = \"drag\"\nk = 1.0", "kind = \"spring\"\na = \"puck\"\nb = \"puck\"\nstiffness = 1.0"), "joins a body to itself", "14:1"),
+        ("key of another kind", broken("k = 1.0", "k = 1.0\ng = [0, 1]"), "`g` does not apply to a `drag` force", "17:5"),
+    ];
+    for (case, text, message, location) in cases {
+        check(case, text, message, location);
+    }
+}
+
+#[test]
+fn every_problem_of_a_scene_is_reported_in_one_run() {
+    let text = broken("mass = 1.0", "mass = -1.0")
+        .replacen("width = 64", "width = 0", 1)
+        .replacen("k = 1.0", "k = -2.0", 1);
+    let sandbox = Sandbox::new();
+    sandbox.write("bad.toml", &text);
+    let out = sandbox.run(&["check", "bad.toml"]);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(2));
+    for expected in [
+        "`width` must be",
+        "`mass` must be > 0",
+        "`k` must be ≥ 0",
+        "3 problems found",
+    ] {
+        assert!(err.contains(expected), "missing `{expected}` in:\n{err}");
+    }
+}
+
+#[test]
+fn a_missing_scene_file_is_bad_input() {
+    let sandbox = Sandbox::new();
+    let out = sandbox.run(&["render", "nowhere.toml"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("cannot read scene file nowhere.toml"));
+    assert!(!sandbox.path("output").exists());
+}
+
+#[test]
+fn a_bad_frame_range_is_bad_input_and_writes_nothing() {
+    let sandbox = Sandbox::new();
+    sandbox.write("good.toml", GOOD);
+    for range in ["30..40", "5..2", "x"] {
+        let out = sandbox.run(&["render", "good.toml", "--out", "frames", "--frames", range]);
+        assert_eq!(
+            out.status.code(),
+            Some(2),
+            "--frames {range}: {}",
+            stderr(&out)
+        );
+        assert!(!sandbox.path("frames").exists());
+    }
+}
+
+#[test]
+fn an_unknown_flag_is_a_usage_error() {
+    let sandbox = Sandbox::new();
+    let out = sandbox.run(&["render", "good.toml", "--bogus"]);
+    assert_eq!(out.status.code(), Some(2));
+}

@@ -1,0 +1,82 @@
+//! Shared helpers: scenes from text, and the real binary run in a temporary folder.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use physframes::scene::{parse, Scene};
+
+/// Parses scene text as if it were the file `test.toml`, failing the test with the
+/// rendered diagnostics when it is invalid.
+pub fn scene(text: &str) -> Scene {
+    match parse(Path::new("test.toml"), text) {
+        Ok(scene) => scene,
+        Err(e) => panic!("the test scene should be valid:\n{e}"),
+    }
+}
+
+/// A temporary folder in which the binary runs; removed when dropped.
+pub struct Sandbox {
+    pub dir: tempfile::TempDir,
+}
+
+impl Sandbox {
+    pub fn new() -> Self {
+        Sandbox {
+            dir: tempfile::tempdir().expect("a temporary folder"),
+        }
+    }
+
+    pub fn path(&self, relative: &str) -> PathBuf {
+        self.dir.path().join(relative)
+    }
+
+    /// Writes a file into the sandbox and returns its path.
+    pub fn write(&self, relative: &str, text: &str) -> PathBuf {
+        let path = self.path(relative);
+        if let Some(parent) = path.parent() {
+            std::fs::create_dir_all(parent).expect("create folders");
+        }
+        std::fs::write(&path, text).expect("write a test file");
+        path
+    }
+
+    /// Runs `physframes` with `args` inside the sandbox.
+    pub fn run(&self, args: &[&str]) -> Output {
+        Command::new(env!("CARGO_BIN_EXE_physframes"))
+            .args(args)
+            .current_dir(self.dir.path())
+            .output()
+            .expect("the physframes binary runs")
+    }
+
+    /// Lists the file names in a folder of the sandbox, sorted.
+    pub fn list(&self, relative: &str) -> Vec<String> {
+        let mut names: Vec<String> = match std::fs::read_dir(self.path(relative)) {
+            Ok(entries) => entries
+                .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+                .collect(),
+            Err(_) => Vec::new(),
+        };
+        names.sort();
+        names
+    }
+}
+
+/// Returns the path of an example scene shipped in `scenes/`.
+pub fn example(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+/// Returns the process's standard error as text.
+pub fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// Returns the process's standard output as text.
+pub fn stdout(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
