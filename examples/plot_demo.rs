@@ -6,8 +6,8 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use physframes::render::plot::{
-    palette, ArrowStyle, Axis, Chart, ChartSpec, Corner, Dash, LegendEntry, LineStyle,
-    MarkerShape, MarkerStyle,
+    palette, ArrowStyle, Axis, Chart, ChartSpec, Corner, Dash, LegendEntry, LineStyle, MarkerShape,
+    MarkerStyle,
 };
 use tiny_skia::Color;
 
@@ -39,17 +39,24 @@ fn main() -> anyhow::Result<()> {
         })
         .collect();
     chart.slope_segments(&mut pixmap, segments.iter().copied(), 16.0, &field);
-    let parabola = |c: f64| (0..=200).map(move |i| {
-        let x = -2.0 + 4.0 * f64::from(i) / 200.0;
-        (x, x * x + c)
-    });
+    let parabola = |c: f64| {
+        (0..=200).map(move |i| {
+            let x = -2.0 + 4.0 * f64::from(i) / 200.0;
+            (x, x * x + c)
+        })
+    };
     chart.polyline(&mut pixmap, parabola(0.0), &curve);
     chart.polyline(&mut pixmap, parabola(-1.0), &shifted);
     chart.draw_legend(&mut pixmap);
     let elapsed = start.elapsed();
     let path = dir.join("plot_demo_slope_field.png");
     save_png(&pixmap, &path)?;
-    println!("{} ({} segments, data layer {:?})", path.display(), segments.len(), elapsed);
+    println!(
+        "{} ({} segments, data layer {:?})",
+        path.display(),
+        segments.len(),
+        elapsed
+    );
 
     // Figure 3: dv/dt = −v/m with arrows, one decaying solution, markers at whole seconds.
     let spec = ChartSpec::new(
@@ -97,9 +104,14 @@ fn main() -> anyhow::Result<()> {
     .title("Work–precision")
     .grid(true);
     spec.theme.legend_corner = Corner::BottomLeft;
-    let methods = [("explicit Euler", 1.0), ("symplectic Euler", 1.0), ("RK4", 4.0)];
+    let methods = [
+        ("explicit Euler", 1.0),
+        ("symplectic Euler", 1.0),
+        ("RK4", 4.0),
+    ];
     for (k, (name, _)) in methods.iter().enumerate() {
-        spec.legend.push(LegendEntry::line(LineStyle::solid(palette(k), 1.5), *name));
+        spec.legend
+            .push(LegendEntry::line(LineStyle::solid(palette(k), 1.5), *name));
     }
     let chart = Chart::new(spec, 800, 600)?;
     let mut pixmap = chart.static_pixmap();
@@ -174,7 +186,10 @@ fn main() -> anyhow::Result<()> {
         chart.draw_legend(&mut pixmap);
         times[4] += t.elapsed();
     }
-    for (name, time) in ["layout", "static", "segments", "curves", "legend"].iter().zip(times) {
+    for (name, time) in ["layout", "static", "segments", "curves", "legend"]
+        .iter()
+        .zip(times)
+    {
         println!("{name}: {:?}", time / runs);
     }
     Ok(())

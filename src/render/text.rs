@@ -468,7 +468,10 @@ mod tests {
     fn ink_extent_is_tight_around_digits_and_descenders() {
         let cap = font().cap_height(20.0);
         let (up, down) = font().ink_extent("0123", 20.0);
-        assert!((up - cap).abs() < 0.1 * cap && down < 0.05 * cap, "{up} {down}");
+        assert!(
+            (up - cap).abs() < 0.1 * cap && down < 0.05 * cap,
+            "{up} {down}"
+        );
         let (_, down) = font().ink_extent("gy", 20.0);
         assert!(down > 0.15 * 20.0);
         assert_eq!(font().ink_extent("", 20.0), (0.0, 0.0));
