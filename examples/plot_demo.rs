@@ -142,6 +142,98 @@ fn main() -> anyhow::Result<()> {
     save_png(&corner, &path)?;
     println!("{}", path.display());
 
+    // Two panels in one image: energy on a log axis beside a phase portrait, 1200×450.
+    let mut canvas = tiny_skia::Pixmap::new(1200, 450).ok_or_else(|| anyhow::anyhow!("canvas"))?;
+    let left =
+        tiny_skia::IntRect::from_xywh(0, 0, 600, 450).ok_or_else(|| anyhow::anyhow!("rect"))?;
+    let right =
+        tiny_skia::IntRect::from_xywh(600, 0, 600, 450).ok_or_else(|| anyhow::anyhow!("rect"))?;
+    let energy = Chart::in_region(
+        ChartSpec::new(
+            Axis::linear(0.0, 100.0, "time t (s)"),
+            Axis::log10(1e-12, 1e-2, "relative energy error |ΔE/E₀|"),
+        )
+        .title("Energy drift")
+        .grid(true)
+        .legend_entry(LegendEntry::line(
+            LineStyle::solid(palette(0), 1.5),
+            "explicit Euler",
+        ))
+        .legend_entry(LegendEntry::line(LineStyle::solid(palette(2), 1.5), "RK4")),
+        1200,
+        450,
+        left,
+    )?;
+    energy.draw_static(&mut canvas);
+    let drift = |scale: f64, power: f64| {
+        (1..=400).map(move |i| {
+            let t = f64::from(i) * 0.25;
+            (t, scale * t.powf(power) * (1.0 + 0.5 * (t * 1.3).sin()))
+        })
+    };
+    energy.polyline(
+        &mut canvas,
+        drift(1e-4, 1.0),
+        &LineStyle::solid(palette(0), 1.5),
+    );
+    energy.polyline(
+        &mut canvas,
+        drift(1e-11, 0.5),
+        &LineStyle::solid(palette(2), 1.5),
+    );
+    energy.draw_legend(&mut canvas);
+    let phase = Chart::in_region(
+        ChartSpec::new(
+            Axis::linear(-1.5, 1.5, "position x (m)"),
+            Axis::linear(-3.0, 3.0, "velocity v (m/s)"),
+        )
+        .title("Phase portrait, ω = 2 rad/s"),
+        1200,
+        450,
+        right,
+    )?;
+    phase.draw_static(&mut canvas);
+    let arrow = ArrowStyle::new(Color::from_rgba8(0x70, 0x70, 0x70, 255), 1.0);
+    for i in 0..=12 {
+        for j in 0..=12 {
+            let x = -1.5 + 0.25 * f64::from(i);
+            let v = -3.0 + 0.5 * f64::from(j);
+            phase.arrow_px(&mut canvas, (x, v), (v, -4.0 * x), 14.0, &arrow);
+        }
+    }
+    let ellipse = (0..=360).map(|k| {
+        let a = f64::from(k).to_radians();
+        (a.cos(), -2.0 * a.sin())
+    });
+    phase.polyline(&mut canvas, ellipse, &LineStyle::solid(palette(3), 2.0));
+    let path = dir.join("plot_demo_two_panels.png");
+    save_png(&canvas, &path)?;
+    println!("{}", path.display());
+
+    // A small 400×300 chart with heatmap cells and outward ticks.
+    let mut spec = ChartSpec::new(
+        Axis::linear(0.0, 10.0, "step size h (ms)"),
+        Axis::linear(0.0, 1.0, "damping ζ"),
+    )
+    .title("Stable region");
+    spec.theme.tick_direction = physframes::render::plot::TickDirection::Out;
+    let small = Chart::new(spec, 400, 300)?;
+    let mut pixmap = small.static_pixmap();
+    let xs: Vec<f64> = (0..=20).map(|i| 0.5 * f64::from(i)).collect();
+    let ys: Vec<f64> = (0..=10).map(|j| 0.1 * f64::from(j)).collect();
+    small.fill_cells(&mut pixmap, &xs, &ys, |i, j| {
+        if (i as f64) * 0.5 < 2.0 + 6.0 * (j as f64) * 0.1 {
+            Color::from_rgba8(0x9e, 0xd6, 0x9e, 255)
+        } else {
+            Color::from_rgba8(0xf4, 0xa6, 0xa6, 255)
+        }
+    });
+    let path = dir.join("plot_demo_small.png");
+    save_png(&pixmap, &path)?;
+    println!("{}", path.display());
+    let path = dir.join("plot_demo_small_corner.png");
+    save_png(&zoom(&pixmap, 0, 200, 100, 100, 6)?, &path)?;
+
     // Timing: a whole figure, static part included, many times over.
     let start = Instant::now();
     let runs = 50;
