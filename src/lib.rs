@@ -7,6 +7,7 @@
 //! only reads simulation state.
 
 pub mod cli;
+pub mod diff;
 pub mod error;
 pub mod output;
 pub mod pipeline;

@@ -9,6 +9,9 @@ pub mod bodies;
 pub mod camera;
 pub mod clip;
 pub mod encode;
+pub mod plot;
+pub mod text;
+pub mod ticks;
 
 use std::sync::Arc;
 
