@@ -2,6 +2,10 @@
 //! each module tests one capability, through the library or through the real binary.
 
 mod bad_input;
+mod cli_extras;
 mod closed_forms;
+mod diagnostics;
 mod render_cli;
+mod resume;
+mod shards;
 mod util;
