@@ -7,8 +7,9 @@
 //!
 //! Keys are TOML dotted keys. `body.NAME.key` addresses the `[[body]]` named NAME
 //! (an unnamed body is `body0`, `body1`, … as in the scene), `force.N.key` the N-th
-//! `[[force]]` counted from 0, and any other path a plain table path such as
-//! `simulation.dt` or `render.view.min`; missing tables are created. The value is a
+//! `[[force]]` counted from 0 (and likewise `NAME.N.key` for any array of tables), and
+//! any other path a plain table path such as `simulation.dt` or `render.view.min`;
+//! missing tables are created. The value is a
 //! TOML value; text that is not one (a bare word such as `--set name=demo`) is taken
 //! as a string.
 
@@ -150,22 +151,79 @@ fn insert<'i>(
         )));
     };
     let mut table = table;
-    for (depth, segment) in parents.iter().enumerate() {
+    let mut depth = 0;
+    while depth < parents.len() {
+        let segment = &parents[depth];
         let key = Spanned::new(segment.span.clone(), Cow::Owned(segment.name.clone()));
         let span = segment.span.clone();
         let entry = table
             .entry(key)
             .or_insert_with(|| Spanned::new(span, DeValue::Table(DeTable::new())));
+        let so_far = |end: usize| {
+            parents[..=end]
+                .iter()
+                .map(|s| s.name.as_str())
+                .collect::<Vec<_>>()
+                .join(".")
+        };
         match entry.get_mut() {
-            DeValue::Table(inner) => table = inner,
-            other => {
-                let so_far: Vec<&str> = parents[..=depth].iter().map(|s| s.name.as_str()).collect();
+            DeValue::Table(inner) => {
+                table = inner;
+                depth += 1;
+            }
+            // `NAME.N.key` addresses the N-th table of an array of tables, such as
+            // `force.N` or any other `[[NAME]]`.
+            DeValue::Array(_) if depth + 1 == parents.len() => {
                 return Err(Diagnostic::at(
                     segment.span.clone(),
                     format!(
-                        "`{}` is a {}, not a table, so it has no key `{}`",
-                        so_far.join("."),
-                        other.type_str(),
+                        "`{}` is an array, not a table, so it has no key `{}`",
+                        so_far(depth),
+                        last.name
+                    ),
+                )
+                .label("not a table")
+                .hint(format!(
+                    "a table in an array of tables is addressed by its index: {}.0.{}",
+                    so_far(depth),
+                    last.name
+                )));
+            }
+            DeValue::Array(items) => {
+                let index = &parents[depth + 1];
+                let count = items.len();
+                match index
+                    .name
+                    .parse::<usize>()
+                    .ok()
+                    .and_then(|i| items.get_mut(i))
+                    .map(|item| item.get_mut())
+                {
+                    Some(DeValue::Table(inner)) => {
+                        table = inner;
+                        depth += 2;
+                    }
+                    _ => {
+                        return Err(Diagnostic::at(
+                            index.span.clone(),
+                            format!("`{}` has no table `{}`", so_far(depth), index.name),
+                        )
+                        .label("counted from 0 in file order")
+                        .hint(format!(
+                            "`{}` holds {count} item{}",
+                            so_far(depth),
+                            if count == 1 { "" } else { "s" }
+                        )))
+                    }
+                }
+            }
+            other => {
+                return Err(Diagnostic::at(
+                    segment.span.clone(),
+                    format!(
+                        "`{}` is {}, not a table, so it has no key `{}`",
+                        so_far(depth),
+                        with_article(other.type_str()),
                         rest[depth + 1].name
                     ),
                 )
@@ -180,6 +238,12 @@ fn insert<'i>(
     table.remove(last.name.as_str());
     table.insert(key, value);
     Ok(())
+}
+
+/// Returns "an integer", "a string": a type's name with its article.
+fn with_article(name: &str) -> String {
+    let vowel = name.starts_with(['a', 'e', 'i', 'o', 'u']);
+    format!("{} {name}", if vowel { "an" } else { "a" })
 }
 
 /// Returns the table of the `[[body]]` named by `segment`.
@@ -333,6 +397,32 @@ mod tests {
         assert_eq!(equals_sign("a.b=1"), Some(3));
         assert_eq!(equals_sign("body.\"x=y\".mass=2"), Some(15));
         assert_eq!(equals_sign("name"), None);
+    }
+
+    /// Applies one override to a document and returns it, or the problem's message.
+    fn applied(text: &str, arg: &str) -> Result<String, String> {
+        let mut root = DeTable::parse(text).expect("valid TOML");
+        let mut diagnostics = Vec::new();
+        apply(root.get_mut(), arg, text.len() + 1, &mut diagnostics);
+        match diagnostics.pop() {
+            Some(d) => Err(d.message),
+            None => Ok(format!("{:?}", root.get_ref())),
+        }
+    }
+
+    #[test]
+    fn any_array_of_tables_is_addressed_by_index() {
+        let text = "[[swarm]]\ncount = 1\n[[swarm]]\ncount = 2\n";
+        let doc = applied(text, "swarm.1.count=7").expect("applies");
+        assert!(doc.contains("\"7\""), "{doc}");
+        assert_eq!(
+            applied(text, "swarm.2.count=7").err().as_deref(),
+            Some("`swarm` has no table `2`")
+        );
+        assert_eq!(
+            applied("a = 1\n", "a.b=2").err().as_deref(),
+            Some("`a` is an integer, not a table, so it has no key `b`")
+        );
     }
 
     #[test]
