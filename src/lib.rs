@@ -6,9 +6,11 @@
 //! and writes it atomically. The simulation never imports the renderer, and the renderer
 //! only reads simulation state.
 
+pub mod checkpoint;
 pub mod cli;
 pub mod diff;
 pub mod error;
+pub mod memory;
 pub mod output;
 pub mod pipeline;
 pub mod render;

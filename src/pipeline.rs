@@ -16,6 +16,7 @@ use std::time::{Duration, Instant};
 use glam::DVec2;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
+use crate::checkpoint::{Checkpoint, CheckpointOptions, CheckpointWriter, RunKey};
 use crate::error::{Error, Result};
 use crate::output::{self, Failure, Manifest, Timings};
 use crate::render::{encode_png, ArrowScales, Compression, FrameView, Provenance, Renderer};
@@ -34,6 +35,18 @@ pub struct RenderOptions {
     pub compression: Compression,
     /// Whether to show a progress bar (it is hidden anyway when stderr is no terminal).
     pub progress: bool,
+}
+
+/// What a render can do beyond [`RenderOptions`]: keep finished frames and use
+/// checkpoints. Kept apart so that code that builds `RenderOptions` stays as it is.
+#[derive(Clone, Debug, Default)]
+pub struct RenderExtras {
+    /// Keep the frames in the folder that this run would write identically
+    /// ([`output::reusable_frames`]), and draw only the others.
+    pub resume: bool,
+    /// Start from the nearest checkpoint at or before the first frame, and write
+    /// checkpoints when asked; `None` uses none.
+    pub checkpoints: Option<CheckpointOptions>,
 }
 
 /// What a finished render did.
@@ -90,6 +103,15 @@ pub fn provenance(scene: &Scene, integrator: IntegratorKind, t: f64, frame: u64)
 /// On a numerical blow-up the frames already written stay valid, the manifest records
 /// the failure, and the error is [`Error::BlowUp`].
 pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderReport> {
+    render_with(scene, options, &RenderExtras::default())
+}
+
+/// Renders like [`render`], resuming and using checkpoints as `extras` asks.
+pub fn render_with(
+    scene: &Scene,
+    options: &RenderOptions,
+    extras: &RenderExtras,
+) -> Result<RenderReport> {
     let wall = Instant::now();
     let frame_count = scene.render.frame_count;
     let range = options.frames.clone().unwrap_or(0..frame_count);
@@ -107,6 +129,18 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderReport> {
     }
 
     let integrator = scene.simulation.integrator;
+    // Frames that a killed run of the same scene and settings finished are kept.
+    let reused = if extras.resume {
+        output::reusable_frames(
+            dir,
+            range.clone(),
+            scene.render.width,
+            scene.render.height,
+            |k| provenance(scene, integrator, scene.frame_time(k), k),
+        )?
+    } else {
+        Default::default()
+    };
     let mut sim = Simulation::new(
         scene.system(),
         scene.initial_state(),
@@ -124,7 +158,25 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderReport> {
         0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
         n => n,
     };
-    let progress = progress_bar(options.progress, range.end - range.start);
+    // The run starts from the nearest checkpoint at or before its first frame, if any.
+    let key = RunKey::new(scene, integrator);
+    let start: Option<Checkpoint> = extras
+        .checkpoints
+        .as_ref()
+        .filter(|_| crate::checkpoint::supports(integrator).is_ok())
+        .and_then(|c| crate::checkpoint::nearest(&c.dir, &key, range.start));
+    let mut checkpoints = match extras
+        .checkpoints
+        .as_ref()
+        .and_then(|c| Some((c, c.every?)))
+    {
+        Some((c, every)) => Some(CheckpointWriter::new(&c.dir, key.clone(), every)?),
+        None => None,
+    };
+    let progress = progress_bar(
+        options.progress,
+        range.end - range.start - reused.len() as u64,
+    );
     let clock = StageClock::default();
     let stop = AtomicBool::new(false);
     let first_error: Mutex<Option<Error>> = Mutex::new(None);
@@ -161,7 +213,13 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderReport> {
 
         // The simulation runs only as far as the last frame asked for.
         let mut history: Vec<Arc<[DVec2]>> = Vec::new();
-        for k in 0..range.end {
+        let mut first = 0;
+        if let Some(c) = &start {
+            sim = c.restore(scene, integrator);
+            history = c.trail.clone();
+            first = c.frame;
+        }
+        for k in first..range.end {
             if stop.load(Ordering::Relaxed) {
                 break;
             }
@@ -176,7 +234,16 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderReport> {
             if trails {
                 history.push(Arc::clone(&pos));
             }
-            if k < range.start {
+            if let Some(Err(e)) = checkpoints
+                .as_mut()
+                .map(|c| c.after_frame(k, &sim, &history))
+            {
+                stop.store(true, Ordering::Relaxed);
+                let mut slot = first_error.lock().unwrap_or_else(|p| p.into_inner());
+                slot.get_or_insert(e);
+                break;
+            }
+            if k < range.start || reused.contains(&k) {
                 simulate += started.elapsed();
                 continue;
             }
@@ -245,6 +312,10 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderReport> {
         frame_count,
         frames_requested: [range.start, range.end],
         frames_written,
+        frames_reused: reused.len() as u64,
+        started_from_frame: start.as_ref().map_or(0, |c| c.frame),
+        checkpoints_written: checkpoints.as_ref().map_or(0, |c| c.written()),
+        scene_overrides: scene.source.overrides.clone(),
         width: scene.render.width,
         height: scene.render.height,
         program_version: env!("CARGO_PKG_VERSION").to_string(),

@@ -2,7 +2,7 @@
 
 use clap::Args;
 
-use super::SceneArgs;
+use super::{SceneArgs, Verbosity};
 use crate::error::Result;
 use crate::scene::Shape;
 
@@ -12,8 +12,11 @@ pub struct CheckArgs {
     scene: SceneArgs,
 }
 
-pub fn run(args: CheckArgs) -> Result<()> {
+pub fn run(args: CheckArgs, verbosity: Verbosity) -> Result<()> {
     let scene = args.scene.load()?;
+    if verbosity.quiet {
+        return Ok(());
+    }
     let mut out = String::new();
     macro_rules! outln {
         ($out:ident, $($arg:tt)*) => {{
@@ -68,6 +71,12 @@ pub fn run(args: CheckArgs) -> Result<()> {
     outln!(out, "  forces: {}", scene.forces.len());
     for f in &scene.forces {
         outln!(out, "    {}", f.kind_name());
+    }
+    if verbosity.verbose {
+        for o in &scene.source.overrides {
+            outln!(out, "  override: --set {o}");
+        }
+        outln!(out, "  scene hash: {}", scene.source.hash);
     }
     super::say(&out)
 }

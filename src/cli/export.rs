@@ -39,15 +39,7 @@ pub fn run(args: ExportArgs) -> Result<()> {
         }
         Some(path) => {
             // Write beside the target, then rename, so the CSV is never half-written.
-            let dir = path
-                .parent()
-                .filter(|p| !p.as_os_str().is_empty())
-                .unwrap_or(std::path::Path::new("."));
-            let tmp = tempfile::Builder::new()
-                .prefix(".physframes-")
-                .suffix(".tmp")
-                .tempfile_in(dir)
-                .map_err(|e| Error::io("cannot create a temporary file in", dir, e))?;
+            let tmp = crate::output::temp_file_beside(path)?;
             let mut out = BufWriter::new(tmp);
             let b = write_trajectory(&scene, args.every_step, &mut out)
                 .map_err(|e| Error::io("cannot write", path.clone(), e))?;

@@ -4,7 +4,10 @@
 //! error is printed once, with its cause, and mapped to a documented exit code.
 
 mod check;
+mod checkpoint;
+mod completions;
 mod export;
+mod new_scene;
 mod render;
 
 use std::ops::Range;
@@ -23,6 +26,34 @@ use crate::sim::IntegratorKind;
 pub struct Cli {
     #[command(subcommand)]
     command: Command,
+    #[command(flatten)]
+    verbosity: Verbosity,
+}
+
+/// How much the commands print besides their results; errors are always printed.
+#[derive(Clone, Copy, Debug, Args)]
+pub struct Verbosity {
+    /// Print nothing but errors.
+    #[arg(
+        long,
+        short,
+        global = true,
+        conflicts_with = "verbose",
+        display_order = 900
+    )]
+    pub quiet: bool,
+    /// Print more: the scene hash and overrides, threads, frames kept and checkpoints.
+    #[arg(long, short, global = true, display_order = 900)]
+    pub verbose: bool,
+}
+
+impl Verbosity {
+    /// Prints a detail to standard error, with `--verbose` only.
+    pub fn detail(&self, text: &str) {
+        if self.verbose {
+            eprintln!("{text}");
+        }
+    }
 }
 
 #[derive(Debug, Subcommand)]
@@ -33,6 +64,12 @@ enum Command {
     Check(check::CheckArgs),
     /// Simulate a scene and write its trajectory as CSV, drawing nothing.
     Export(export::ExportArgs),
+    /// Simulate a scene, drawing nothing, and save checkpoints for sharded renders.
+    Checkpoint(checkpoint::CheckpointArgs),
+    /// Write a commented scene template NAME.toml that renders as it is.
+    New(new_scene::NewArgs),
+    /// Print a shell completion script: bash, zsh, fish, elvish or powershell.
+    Completions(completions::CompletionsArgs),
 }
 
 /// Flags shared by the commands that load a scene.
@@ -43,12 +80,17 @@ struct SceneArgs {
     /// Use this integrator instead of the scene's.
     #[arg(long, value_name = "NAME")]
     integrator: Option<String>,
+    /// Override a scene value, e.g. simulation.dt=0.001, body.puck.mass=2,
+    /// force.0.k=0.5 or render.view.min=[0,0]; repeatable, applied in order. The value
+    /// is TOML; a bare word is a string.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
 }
 
 impl SceneArgs {
     /// Loads and validates the scene, applying command-line overrides.
     fn load(&self) -> Result<Scene> {
-        let mut scene = Scene::load(&self.scene)?;
+        let mut scene = Scene::load_with(&self.scene, &self.set)?;
         if let Some(name) = &self.integrator {
             scene.simulation.integrator = name.parse::<IntegratorKind>().map_err(Error::Usage)?;
         }
@@ -134,10 +176,14 @@ pub fn main() -> ExitCode {
 }
 
 fn run(cli: Cli) -> Result<()> {
+    let verbosity = cli.verbosity;
     match cli.command {
-        Command::Render(args) => render::run(args),
-        Command::Check(args) => check::run(args),
+        Command::Render(args) => render::run(args, verbosity),
+        Command::Check(args) => check::run(args, verbosity),
         Command::Export(args) => export::run(args),
+        Command::Checkpoint(args) => checkpoint::run(args, verbosity),
+        Command::New(args) => new_scene::run(args, verbosity),
+        Command::Completions(args) => completions::run(args),
     }
 }
 

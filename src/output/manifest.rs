@@ -39,6 +39,17 @@ pub struct Manifest {
     pub frames_requested: [u64; 2],
     /// How many frames this run wrote.
     pub frames_written: u64,
+    /// How many frames in the range `--resume` kept from an earlier run instead of
+    /// drawing them again.
+    pub frames_reused: u64,
+    /// The frame the simulation started from: 0, or the frame of the checkpoint it was
+    /// restored from.
+    pub started_from_frame: u64,
+    /// How many checkpoints this run wrote.
+    pub checkpoints_written: u64,
+    /// The `--set KEY=VALUE` overrides applied to the scene file, in order; the scene
+    /// hash covers them.
+    pub scene_overrides: Vec<String>,
     pub width: u32,
     pub height: u32,
     pub program_version: String,

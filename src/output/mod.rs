@@ -4,14 +4,18 @@
 //! temporary file in the same folder and renamed into place, so an interrupted run
 //! never leaves a half-written frame behind.
 
+pub mod apng;
 mod csv;
 mod manifest;
+mod resume;
+pub mod video;
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
 pub use csv::write_trajectory;
 pub use manifest::{Failure, Manifest, Timings};
+pub use resume::reusable_frames;
 
 use crate::error::{Error, Result};
 
@@ -32,20 +36,32 @@ pub fn parse_frame_file_name(name: &str) -> Option<u64> {
 /// Writes `bytes` to `path` atomically: a temporary file in the same folder, flushed,
 /// then renamed over `path`.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let mut tmp = tempfile::Builder::new()
-        .prefix(".physframes-")
-        .suffix(".tmp")
-        .tempfile_in(dir)
-        .map_err(|e| Error::io("cannot create a temporary file in", dir, e))?;
+    let mut tmp = temp_file_beside(path)?;
     tmp.write_all(bytes)
         .map_err(|e| Error::io("cannot write", tmp.path().to_path_buf(), e))?;
     tmp.persist(path)
         .map_err(|e| Error::io("cannot move a finished file to", path, e.error))?;
     Ok(())
+}
+
+/// Creates a temporary file in the folder of `path`, to be renamed onto it when
+/// complete. Its permissions are those of an ordinary new file (0666 less the umask,
+/// usually 0644), not the owner-only 0600 of temporary files, since it becomes one.
+pub fn temp_file_beside(path: &Path) -> Result<tempfile::NamedTempFile> {
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".physframes-").suffix(".tmp");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    builder
+        .tempfile_in(dir)
+        .map_err(|e| Error::io("cannot create a temporary file in", dir, e))
 }
 
 /// Lists the frame files in `dir`, with their numbers, in increasing order.

@@ -71,7 +71,16 @@ impl ClipRect {
         if u0 > u1 {
             return None;
         }
-        let at = |u: f64| (a.0 + u * dx, a.1 + u * dy);
+        // In exact arithmetic the clipped ends lie on the rectangle; with ends far away
+        // (1e50 pixels, say) a + u·d cancels catastrophically and can land anywhere, so
+        // the ends are clamped back into the rectangle. That moves them by no more than
+        // the round-off, and guarantees the rasteriser only sees safe coordinates.
+        let at = |u: f64| {
+            (
+                (a.0 + u * dx).clamp(self.x0, self.x1),
+                (a.1 + u * dy).clamp(self.y0, self.y1),
+            )
+        };
         Some((
             if u0 > 0.0 { at(u0) } else { a },
             if u1 < 1.0 { at(u1) } else { b },
@@ -150,6 +159,25 @@ mod tests {
         assert_eq!(r.segment((-1000.0, 0.0), (-500.0, 50.0)), None);
         assert_eq!(r.segment((0.0, 0.0), (f64::NAN, 5.0)), None);
         assert_eq!(r.segment((0.0, 0.0), (f64::INFINITY, 5.0)), None);
+    }
+
+    #[test]
+    fn far_away_ends_never_come_back_outside_the_rectangle() {
+        let r = ClipRect::guard(64, 48);
+        // Ends near 1e50 pixels, as a body about to blow up produces: whatever survives
+        // the clip must lie inside the guard band.
+        let ends = [
+            ((1e50, 1e50), (1.00001e50, -0.9e50)),
+            ((-3.3e49, 2e50), (4e50, -1e49)),
+            ((5.0, 5.0), (-7e300, 3e299)),
+        ];
+        for (a, b) in ends {
+            if let Some((c, d)) = r.segment(a, b) {
+                for p in [c, d] {
+                    assert!(r.contains(p.0, p.1), "{a:?}-{b:?} clipped to {p:?}");
+                }
+            }
+        }
     }
 
     #[test]

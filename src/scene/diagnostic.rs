@@ -5,7 +5,7 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use codespan_reporting::diagnostic::{Diagnostic as Report, Label};
-use codespan_reporting::files::SimpleFile;
+use codespan_reporting::files::SimpleFiles;
 use codespan_reporting::term;
 
 /// One problem found in a scene file.
@@ -62,8 +62,46 @@ pub struct SceneError {
     pub path: PathBuf,
     /// The text of the file.
     pub text: String,
-    /// The problems, in the order they appear in the file.
+    /// The `--set KEY=VALUE` arguments, in order; spans can point into them too (see
+    /// [`Sources`]).
+    pub overrides: Vec<String>,
+    /// The problems, in the order they appear in the file, then in the overrides.
     pub diagnostics: Vec<Diagnostic>,
+}
+
+/// The texts that spans point into, laid end to end in one address space: the scene
+/// file at `0..file_len`, then each `--set` argument, each one byte after the end of
+/// the text before it. A span therefore names both a text and a place in it.
+#[derive(Clone, Copy, Debug)]
+pub struct Sources<'a> {
+    /// The length of the scene file's text in bytes.
+    pub file_len: usize,
+    /// The `--set` arguments, in order.
+    pub overrides: &'a [String],
+}
+
+impl Sources<'_> {
+    /// Returns the offset at which override `i` starts.
+    pub fn base(&self, i: usize) -> usize {
+        self.file_len
+            + 1
+            + self.overrides[..i]
+                .iter()
+                .map(|o| o.len() + 1)
+                .sum::<usize>()
+    }
+
+    /// Returns which text a span points into (`None` for the scene file, `Some(i)` for
+    /// override `i`) and the span relative to that text.
+    pub fn locate(&self, span: &Range<usize>) -> (Option<usize>, Range<usize>) {
+        for i in (0..self.overrides.len()).rev() {
+            let base = self.base(i);
+            if span.start >= base {
+                return (Some(i), span.start - base..span.end.saturating_sub(base));
+            }
+        }
+        (None, span.clone())
+    }
 }
 
 impl SceneError {
@@ -73,8 +111,15 @@ impl SceneError {
         SceneError {
             path: path.to_path_buf(),
             text: text.to_string(),
+            overrides: Vec::new(),
             diagnostics,
         }
+    }
+
+    /// Records the `--set` arguments that spans beyond the file point into.
+    pub fn with_overrides(mut self, overrides: &[String]) -> Self {
+        self.overrides = overrides.to_vec();
+        self
     }
 
     /// Returns `line:column` (both counted from 1) of a byte offset in the file.
@@ -88,25 +133,42 @@ impl SceneError {
     }
 
     /// Renders every diagnostic like a compiler does: the file, line and column, the
-    /// offending line with a caret under the bad value, and the hint.
+    /// offending line with a caret under the bad value, and the hint. A problem in a
+    /// `--set` argument is shown in that argument, named `--set #N`.
     pub fn render(&self) -> String {
         let name = self.path.display().to_string();
-        let file = SimpleFile::new(name.as_str(), self.text.as_str());
+        let sources = Sources {
+            file_len: self.text.len(),
+            overrides: &self.overrides,
+        };
+        let mut files = SimpleFiles::new();
+        let file_id = files.add(name.clone(), self.text.as_str());
+        let override_ids: Vec<usize> = self
+            .overrides
+            .iter()
+            .enumerate()
+            .map(|(i, o)| files.add(format!("--set #{}", i + 1), o.as_str()))
+            .collect();
         let config = term::Config::default();
         let mut out = String::new();
         for d in &self.diagnostics {
             let mut report = Report::error().with_message(&d.message);
             if let Some(span) = &d.span {
-                let start = floor_char_boundary(&self.text, span.start);
-                let end = floor_char_boundary(&self.text, span.end.max(span.start));
+                let (source, local) = sources.locate(span);
+                let (id, text) = match source {
+                    Some(i) => (override_ids[i], self.overrides[i].as_str()),
+                    None => (file_id, self.text.as_str()),
+                };
+                let start = floor_char_boundary(text, local.start);
+                let end = floor_char_boundary(text, local.end.max(local.start));
                 report = report.with_labels(vec![
-                    Label::primary((), start..end).with_message(d.label.clone())
+                    Label::primary(id, start..end).with_message(d.label.clone())
                 ]);
             }
             if let Some(hint) = &d.hint {
                 report = report.with_notes(vec![format!("hint: {hint}")]);
             }
-            match term::emit_into_string(&config, &file, &report) {
+            match term::emit_into_string(&config, &files, &report) {
                 Ok(text) => out.push_str(&text),
                 Err(_) => out.push_str(&format!("error: {}: {}\n", name, d.message)),
             }

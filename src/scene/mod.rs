@@ -9,6 +9,8 @@
 
 mod color;
 mod diagnostic;
+mod frontend;
+mod overrides;
 pub mod raw;
 mod validate;
 
@@ -17,7 +19,8 @@ use std::path::{Path, PathBuf};
 use glam::DVec2;
 
 pub use color::Rgba;
-pub use diagnostic::{Diagnostic, SceneError};
+pub use diagnostic::{Diagnostic, SceneError, Sources};
+pub use frontend::hash_with_overrides;
 pub use validate::{parse, MAX_FRAMES, MAX_IMAGE_SIDE};
 
 use crate::sim::{ForceSpec, IntegratorKind, State, System};
@@ -44,8 +47,11 @@ pub struct Scene {
 pub struct Source {
     /// The path the user gave.
     pub path: PathBuf,
-    /// The SHA-256 of the file's bytes, in lowercase hexadecimal.
+    /// The SHA-256 of the file's bytes, in lowercase hexadecimal; with overrides, of
+    /// the file's bytes followed by each override (see [`hash_with_overrides`]).
     pub hash: String,
+    /// The `--set KEY=VALUE` overrides applied to the file, in order.
+    pub overrides: Vec<String>,
 }
 
 /// The `[simulation]` table, checked.
@@ -170,6 +176,12 @@ pub struct PointMass {
 impl Scene {
     /// Reads and validates a scene file.
     pub fn load(path: &Path) -> Result<Scene, LoadError> {
+        Self::load_with(path, &[])
+    }
+
+    /// Reads a scene file, applies `--set KEY=VALUE` overrides in order, and validates
+    /// the result; a problem in an override is reported in that override.
+    pub fn load_with(path: &Path, overrides: &[String]) -> Result<Scene, LoadError> {
         let bytes = std::fs::read(path).map_err(|e| LoadError::Io {
             path: path.to_path_buf(),
             source: e,
@@ -178,7 +190,7 @@ impl Scene {
             path: path.to_path_buf(),
             source: std::io::Error::new(std::io::ErrorKind::InvalidData, e),
         })?;
-        parse(path, &text).map_err(LoadError::Invalid)
+        frontend::parse(path, &text, overrides).map_err(LoadError::Invalid)
     }
 
     /// Returns the time of frame k, t = k·steps_per_frame·dt (= k/fps to 1e-9).

@@ -24,23 +24,15 @@ const WHOLE_STEPS_TOLERANCE: f64 = 1e-9;
 
 /// Parses and validates the text of a scene file read from `path`.
 pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
-    let raw: RawScene = match toml::from_str(text) {
-        Ok(raw) => raw,
-        Err(e) => {
-            let message = e.message().trim().to_string();
-            let d = match e.span() {
-                Some(span) => Diagnostic::at(span, message),
-                None => Diagnostic::whole_file(message),
-            };
-            return Err(SceneError::new(path, text, vec![d]));
-        }
-    };
+    super::frontend::parse(path, text, &[])
+}
+
+/// Checks every rule on a raw scene that fits the schema. Returns the scene when every
+/// rule holds, and every problem found.
+pub(super) fn check(path: &Path, text: &str, raw: RawScene) -> (Option<Scene>, Vec<Diagnostic>) {
     let mut v = Validator::default();
     let scene = v.scene(path, text, raw);
-    match scene {
-        Some(scene) if v.diagnostics.is_empty() => Ok(scene),
-        _ => Err(SceneError::new(path, text, v.diagnostics)),
-    }
+    (scene, v.diagnostics)
 }
 
 /// Collects diagnostics while turning raw values into checked ones. Each check returns
@@ -122,6 +114,7 @@ impl Validator {
             source: Source {
                 path: path.to_path_buf(),
                 hash,
+                overrides: Vec::new(),
             },
             simulation: simulation?,
             render: render?,

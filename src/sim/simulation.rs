@@ -61,6 +61,23 @@ impl Simulation {
         }
     }
 
+    /// Recreates a simulation that started at `t0` and has taken `steps` steps of size
+    /// `h` to reach `state`, as a checkpoint records it; it then goes on bit for bit as
+    /// the original run would, for a method that keeps no state between steps.
+    pub fn restore(
+        system: System,
+        state: State,
+        kind: IntegratorKind,
+        h: f64,
+        t0: f64,
+        steps: u64,
+    ) -> Self {
+        let mut sim = Simulation::new(system, state, kind, h);
+        sim.t0 = t0;
+        sim.steps = steps;
+        sim
+    }
+
     /// Returns the current state.
     pub fn state(&self) -> &State {
         &self.state

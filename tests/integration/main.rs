@@ -2,7 +2,11 @@
 //! each module tests one capability, through the library or through the real binary.
 
 mod bad_input;
+mod cli_extras;
 mod closed_forms;
+mod diagnostics;
 mod properties;
 mod render_cli;
+mod resume;
+mod shards;
 mod util;

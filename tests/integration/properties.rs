@@ -139,7 +139,7 @@ fn render_all(text: &str) -> Vec<Vec<u8>> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 96, ..ProptestConfig::default() })]
 
     #[test]
     fn random_valid_scenes_never_panic_and_draw_the_same_bytes_twice(text in scene_text()) {

@@ -49,6 +49,58 @@ impl Sandbox {
             .expect("the physframes binary runs")
     }
 
+    /// Runs `physframes` with `args` inside the sandbox, with extra environment
+    /// variables.
+    pub fn run_with_env(&self, args: &[&str], env: &[(&str, &std::ffi::OsStr)]) -> Output {
+        Command::new(env!("CARGO_BIN_EXE_physframes"))
+            .args(args)
+            .envs(env.iter().copied())
+            .current_dir(self.dir.path())
+            .output()
+            .expect("the physframes binary runs")
+    }
+
+    /// Starts `physframes` with `args` inside the sandbox without waiting for it; its
+    /// output is discarded.
+    pub fn spawn(&self, args: &[&str]) -> std::process::Child {
+        Command::new(env!("CARGO_BIN_EXE_physframes"))
+            .args(args)
+            .current_dir(self.dir.path())
+            .stdin(std::process::Stdio::null())
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .expect("the physframes binary starts")
+    }
+
+    /// Returns the names of the PNG frames in a folder of the sandbox, sorted.
+    pub fn frames(&self, relative: &str) -> Vec<String> {
+        self.list(relative)
+            .into_iter()
+            .filter(|f| f.starts_with("frame_") && f.ends_with(".png"))
+            .collect()
+    }
+
+    /// Reads `manifest.json` from a folder of the sandbox.
+    pub fn manifest(&self, relative: &str) -> serde_json::Value {
+        let path = self.path(relative).join("manifest.json");
+        let text = std::fs::read_to_string(&path)
+            .unwrap_or_else(|e| panic!("{} exists: {e}", path.display()));
+        serde_json::from_str(&text).expect("manifest.json is JSON")
+    }
+
+    /// Asserts that two folders of the sandbox hold the same frames, byte for byte.
+    pub fn assert_same_frames(&self, a: &str, b: &str) {
+        let (fa, fb) = (self.frames(a), self.frames(b));
+        assert_eq!(fa, fb, "{a} and {b} hold different frames");
+        assert!(!fa.is_empty(), "{a} holds no frame");
+        for f in &fa {
+            let x = std::fs::read(self.path(a).join(f)).expect("frame");
+            let y = std::fs::read(self.path(b).join(f)).expect("frame");
+            assert!(x == y, "{f} differs between {a} and {b}");
+        }
+    }
+
     /// Lists the file names in a folder of the sandbox, sorted.
     pub fn list(&self, relative: &str) -> Vec<String> {
         let mut names: Vec<String> = match std::fs::read_dir(self.path(relative)) {
