@@ -7,8 +7,47 @@
 use serde::Deserialize;
 use toml::Spanned;
 
-/// A 2-D vector as a scene writes it: `[x, y]`.
-pub type RawVec2 = [f64; 2];
+/// A 2-D vector as a scene writes it: `[x, y]`, exactly two numbers.
+///
+/// serde's `[f64; 2]` would quietly ignore a third element, so `[1, 2, 3]` is read
+/// through a sequence visitor that counts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RawVec2(pub [f64; 2]);
+
+impl<'de> Deserialize<'de> for RawVec2 {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Visitor;
+        impl<'de> serde::de::Visitor<'de> for Visitor {
+            type Value = RawVec2;
+
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("two numbers [x, y]")
+            }
+
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<RawVec2, A::Error> {
+                use serde::de::Error;
+                let x: f64 = seq
+                    .next_element()?
+                    .ok_or_else(|| A::Error::invalid_length(0, &self))?;
+                let y: f64 = seq
+                    .next_element()?
+                    .ok_or_else(|| A::Error::invalid_length(1, &self))?;
+                let mut n = 2;
+                while seq.next_element::<serde::de::IgnoredAny>()?.is_some() {
+                    n += 1;
+                }
+                if n != 2 {
+                    return Err(A::Error::invalid_length(n, &self));
+                }
+                Ok(RawVec2([x, y]))
+            }
+        }
+        deserializer.deserialize_seq(Visitor)
+    }
+}
 
 /// The whole scene file.
 #[derive(Debug, Deserialize)]

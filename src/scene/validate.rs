@@ -857,7 +857,7 @@ impl Validator {
     }
 
     fn vec2(&mut self, raw: &Spanned<RawVec2>, key: &str) -> Option<DVec2> {
-        let [x, y] = *raw.get_ref();
+        let RawVec2([x, y]) = *raw.get_ref();
         if x.is_finite() && y.is_finite() {
             return Some(DVec2::new(x, y));
         }

@@ -75,6 +75,7 @@ fn each_class_of_bad_input_is_located_and_writes_nothing() {
         ("zero mass", broken("mass = 1.0", "mass = 0.0"), "`mass` must be > 0", "12:8"),
         ("negative mass", broken("mass = 1.0", "mass = -3"), "`mass` must be > 0", "12:8"),
         ("infinite number", broken("velocity = [1.0, 0.0]", "velocity = [inf, 0.0]"), "`velocity` must be two finite numbers", "13:12"),
+        ("three numbers for a vector", broken("velocity = [1.0, 0.0]", "velocity = [1.0, 0.0, 2.0]"), "invalid length 3, expected two numbers [x, y]", "13:12"),
         ("nan", broken("k = 1.0", "k = nan"), "`k` must be a finite number", "16:5"),
         ("zero dt", broken("dt = 0.01", "dt = 0.0"), "`dt` must be > 0", "3:6"),
         ("negative duration", broken("duration = 1.0", "duration = -1.0"), "`duration` must be > 0", "4:12"),
