@@ -9,6 +9,7 @@
 pub mod cli;
 pub mod diff;
 pub mod error;
+pub mod figures;
 pub mod output;
 pub mod pipeline;
 pub mod render;

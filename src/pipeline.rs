@@ -18,6 +18,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::error::{Error, Result};
 use crate::output::{self, Failure, Manifest, Timings};
+use crate::render::layers::TraceRecorder;
 use crate::render::{encode_png, ArrowScales, Compression, FrameView, Provenance, Renderer};
 use crate::scene::Scene;
 use crate::sim::{BlowUp, IntegratorKind, Simulation};
@@ -52,6 +53,8 @@ struct Job {
     force: Option<Vec<DVec2>>,
     /// Positions at frames 0 ..= index, when trails are on.
     trail: Option<Vec<Arc<[DVec2]>>>,
+    /// Trace curves' points at frames 0 ..= index, when the scene has traces.
+    traces: Option<Vec<Arc<[DVec2]>>>,
 }
 
 /// Stage times summed over the workers, in nanoseconds.
@@ -161,6 +164,7 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderReport> {
 
         // The simulation runs only as far as the last frame asked for.
         let mut history: Vec<Arc<[DVec2]>> = Vec::new();
+        let mut traces = TraceRecorder::new(scene);
         for k in 0..range.end {
             if stop.load(Ordering::Relaxed) {
                 break;
@@ -175,6 +179,9 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderReport> {
             let pos: Arc<[DVec2]> = Arc::from(state.pos.as_slice());
             if trails {
                 history.push(Arc::clone(&pos));
+            }
+            if let Some(traces) = &mut traces {
+                traces.record(state.t, &state.pos, &state.vel);
             }
             if k < range.start {
                 simulate += started.elapsed();
@@ -192,6 +199,7 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderReport> {
                 vel: state.vel.clone(),
                 force,
                 trail: trails.then(|| history.clone()),
+                traces: traces.as_ref().map(|r| r.history().to_vec()),
             };
             simulate += started.elapsed();
             if sender.send(job).is_err() {
@@ -295,6 +303,7 @@ fn draw_and_write(
         vel: &job.vel,
         force: job.force.as_deref(),
         trail: job.trail.as_deref(),
+        traces: job.traces.as_deref(),
     };
     let pixmap = renderer.draw(&view);
     let drawn = StageClock::add(&clock.draw, started);

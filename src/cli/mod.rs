@@ -4,7 +4,9 @@
 //! error is printed once, with its cause, and mapped to a documented exit code.
 
 mod check;
+mod diff;
 mod export;
+mod figure;
 mod render;
 
 use std::ops::Range;
@@ -33,6 +35,11 @@ enum Command {
     Check(check::CheckArgs),
     /// Simulate a scene and write its trajectory as CSV, drawing nothing.
     Export(export::ExportArgs),
+    /// Draw a built-in figure, or one frame of a scene, to one PNG.
+    Figure(figure::FigureArgs),
+    /// Compare two PNGs or two folders of frames; exit 0 when within tolerance, 1 when
+    /// different, 2 when they cannot be compared.
+    Diff(diff::DiffArgs),
 }
 
 /// Flags shared by the commands that load a scene.
@@ -138,6 +145,8 @@ fn run(cli: Cli) -> Result<()> {
         Command::Render(args) => render::run(args),
         Command::Check(args) => check::run(args),
         Command::Export(args) => export::run(args),
+        Command::Figure(args) => figure::run(args),
+        Command::Diff(args) => diff::run(args),
     }
 }
 

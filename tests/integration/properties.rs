@@ -111,8 +111,14 @@ fn scene_text() -> impl Strategy<Value = String> {
 /// Simulates every frame and draws and encodes it; returns the PNG bytes, or stops
 /// quietly at a blow-up (which is a correct outcome for an unstable random scene).
 fn render_all(text: &str) -> Vec<Vec<u8>> {
-    let scene = parse(Path::new("random.toml"), text).unwrap_or_else(|e| panic!("valid scene:\n{e}\n{text}"));
-    let mut sim = Simulation::new(scene.system(), scene.initial_state(), scene.simulation.integrator, scene.simulation.dt);
+    let scene = parse(Path::new("random.toml"), text)
+        .unwrap_or_else(|e| panic!("valid scene:\n{e}\n{text}"));
+    let mut sim = Simulation::new(
+        scene.system(),
+        scene.initial_state(),
+        scene.simulation.integrator,
+        scene.simulation.dt,
+    );
     let mut force = vec![DVec2::ZERO; scene.bodies.len()];
     sim.net_forces(&mut force);
     let renderer = Renderer::new(&scene, ArrowScales::fit(&scene, &sim.state().vel, &force));
@@ -131,9 +137,12 @@ fn render_all(text: &str) -> Vec<Vec<u8>> {
             vel: &sim.state().vel,
             force: Some(&force),
             trail: Some(&trail),
+            traces: None,
         };
         let pixmap = renderer.draw(&view);
-        frames.push(encode_png(&pixmap, &Provenance::default(), Compression::Fastest).expect("encodes"));
+        frames.push(
+            encode_png(&pixmap, &Provenance::default(), Compression::Fastest).expect("encodes"),
+        );
     }
     frames
 }
