@@ -182,13 +182,12 @@ pub fn allowed_hint(names: &[&str]) -> String {
         "this expression may read no variable; write a number".into()
     } else {
         format!(
-            "the variables here are {}; functions: {}, atan2(y, x), min(a, b), max(a, b); constants: PI, E",
+            "the variables here are {}; functions such as sin, exp, sqrt, ln, abs, atan2(y, x), min(a, b); constants PI and E",
             names
                 .iter()
                 .map(|n| format!("`{n}`"))
                 .collect::<Vec<_>>()
-                .join(", "),
-            FUNCTIONS[..FUNCTIONS.len() - 1].join(", ")
+                .join(", ")
         )
     }
 }

@@ -3,6 +3,8 @@
 
 mod bad_input;
 mod closed_forms;
+mod figures;
+mod golden;
 mod properties;
 mod render_cli;
 mod util;

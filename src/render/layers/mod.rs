@@ -19,7 +19,7 @@ use std::sync::Arc;
 use glam::DVec2;
 use tiny_skia::{Color, IntRect, Pixmap};
 
-pub use curves::TraceRecorder;
+pub use curves::{solution_points, TraceRecorder};
 
 use super::camera::Camera;
 use super::plot::{Axis, Chart, ChartSpec, Corner, Dash, LegendEntry, LineStyle, Theme};
