@@ -383,6 +383,15 @@ fn diff_exits_0_1_or_2_and_writes_the_three_panel_image() {
     );
     let diff = image::open(sandbox.path("d/diff.png")).expect("a diff image");
     assert_eq!((diff.width(), diff.height()), (3 * 200 + 8, 150));
+    // A diff image carries the expected frame's provenance too.
+    let chunks = text_chunks(&sandbox.path("d/diff.png"));
+    assert!(
+        chunks.contains(&("physframes:scene".into(), "drag-field".into())),
+        "{chunks:?}"
+    );
+    assert!(chunks
+        .iter()
+        .any(|(k, v)| k == "Software" && v.starts_with("physframes ")));
     // Loose enough limits let the same pair pass.
     let loose = run(&["diff", "a.png", "c.png", "--threshold", "255"]);
     assert_eq!(loose.status.code(), Some(0));
@@ -416,4 +425,19 @@ fn diff_exits_0_1_or_2_and_writes_the_three_panel_image() {
         stdout(&folders)
     );
     assert!(stdout(&folders).contains("1 of 2 frames within tolerance"));
+}
+
+#[test]
+fn a_field_that_reads_t_changes_between_frames_and_a_static_one_does_not() {
+    let text = |f: &str| {
+        format!(
+            "[simulation]\nduration = 1.0\n[render]\nwidth = 200\nheight = 150\nview = {{ min = [-1.0, -1.0], max = [1.0, 1.0] }}\n[axes]\n[[field]]\nkind = \"slope\"\nf = \"{f}\"\ngrid = [8, 6]\n"
+        )
+    };
+    let moving = scene(&text("x*sin(3*t)"));
+    let still = scene(&text("x"));
+    assert!(moving.layers.has_dynamic_layers() && !still.layers.has_dynamic_layers());
+    let frame = |s: &Scene, k| figures::render_frame(s, k).expect("renders");
+    assert!(frame(&moving, 0) != frame(&moving, 10));
+    assert!(frame(&still, 0) == frame(&still, 10));
 }
