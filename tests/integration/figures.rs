@@ -441,3 +441,33 @@ fn a_field_that_reads_t_changes_between_frames_and_a_static_one_does_not() {
     assert!(frame(&moving, 0) != frame(&moving, 10));
     assert!(frame(&still, 0) == frame(&still, 10));
 }
+
+#[test]
+fn bad_layer_keys_are_located_errors() {
+    let base = "[render]\nview = { min = [0.0, -1.0], max = [5.0, 3.0] }\n[[body]]\nname = \"puck\"\nmass = 1.0\n";
+    let cases: &[(&str, &str, &str)] = &[
+        // (the table added to the scene, the text the error points at, the message)
+        ("[[field]]\nkind = \"flow\"\nf = \"x\"\n", "\"flow\"", "unknown field kind"),
+        ("[[field]]\nkind = \"slope\"\nf = \"x\"\ngrid = [0, 5]\n", "[0, 5]", "`grid` must be"),
+        ("[[field]]\nkind = \"slope\"\nf = [\"x\", \"y\"]\n", "[\"x\", \"y\"]", "one expression"),
+        ("[[field]]\nkind = \"vector\"\nf = \"x\"\nlength = \"huge\"\n", "\"huge\"", "unknown arrow length"),
+        ("[[field]]\nkind = \"slope\"\nf = \"x\"\nparams = { e = 1 }\n", "{ e = 1 }", "cannot name a parameter"),
+        ("[[curve]]\nkind = \"solution\"\nf = \"-y\"\nstart = [0, 1]\nh = 0.5\nmethod = \"rk7\"\n", "\"rk7\"", "unknown method"),
+        ("[[curve]]\nkind = \"solution\"\nf = \"-y\"\nstart = [0, 1]\nh = -0.5\n", "-0.5", "must be > 0"),
+        ("[[curve]]\nkind = \"trace\"\nx = \"t\"\ny = \"ghost.vx\"\n", "ghost.vx", "unknown variable `ghost.vx`"),
+        ("[[curve]]\nkind = \"exact\"\ny = \"x\"\ndash = \"wavy\"\n", "\"wavy\"", "unknown dash"),
+        ("[axes]\nlegend = \"middle\"\n", "\"middle\"", "`legend` must be"),
+        ("[axes]\naspect = \"square\"\n", "\"square\"", "unknown aspect"),
+    ];
+    for (table, at, message) in cases {
+        let text = format!("{base}{table}");
+        let e = match parse(Path::new("bad.toml"), &text) {
+            Ok(_) => panic!("`{table}` should be rejected"),
+            Err(e) => e,
+        };
+        let d = &e.diagnostics[0];
+        let span = d.span.clone().expect("located");
+        assert_eq!(&text[span.clone()], *at, "{table}: {}", d.message);
+        assert!(d.message.contains(message), "{table}: {}", d.message);
+    }
+}
