@@ -258,6 +258,75 @@ pub fn write_png_atomic(image: &RgbaImage, path: &Path) -> Result<(), DiffError>
     write_atomic(path, &bytes)
 }
 
+/// Returns the text chunks (iTXt and tEXt) of PNG bytes; none when they cannot be read.
+pub fn text_chunks(bytes: &[u8]) -> Vec<(String, String)> {
+    let Ok(reader) = png::Decoder::new(std::io::Cursor::new(bytes)).read_info() else {
+        return Vec::new();
+    };
+    let info = reader.info();
+    let mut chunks: Vec<(String, String)> = info
+        .uncompressed_latin1_text
+        .iter()
+        .map(|c| (c.keyword.clone(), c.text.clone()))
+        .collect();
+    chunks.extend(
+        info.utf8_text
+            .iter()
+            .filter_map(|c| Some((c.keyword.clone(), c.get_text().ok()?))),
+    );
+    chunks
+}
+
+/// The provenance of a diff image: the program, what was compared, and the `physframes:`
+/// chunks (scene, scene hash, integrator, dt, t, frame) of the expected image.
+fn diff_provenance(expected: &Path, expected_bytes: &[u8], actual: &Path) -> Vec<(String, String)> {
+    let mut chunks = vec![
+        (
+            "Software".to_string(),
+            format!("physframes {}", env!("CARGO_PKG_VERSION")),
+        ),
+        (
+            "physframes:diff-expected".into(),
+            expected.display().to_string(),
+        ),
+        (
+            "physframes:diff-actual".into(),
+            actual.display().to_string(),
+        ),
+    ];
+    chunks.extend(
+        text_chunks(expected_bytes)
+            .into_iter()
+            .filter(|(k, _)| k.starts_with("physframes:")),
+    );
+    chunks
+}
+
+/// Encodes a diff image with text chunks and writes it atomically.
+fn write_diff_png(
+    image: &RgbaImage,
+    path: &Path,
+    chunks: &[(String, String)],
+) -> Result<(), DiffError> {
+    let mut bytes = Vec::new();
+    let error = |e: png::EncodingError| write_error(path, std::io::Error::other(e));
+    {
+        let mut encoder = png::Encoder::new(&mut bytes, image.width(), image.height());
+        encoder.set_color(png::ColorType::Rgba);
+        encoder.set_depth(png::BitDepth::Eight);
+        encoder.set_compression(png::Compression::Fast);
+        for (key, value) in chunks {
+            encoder
+                .add_itxt_chunk(key.clone(), value.clone())
+                .map_err(error)?;
+        }
+        let mut writer = encoder.write_header().map_err(error)?;
+        writer.write_image_data(image.as_raw()).map_err(error)?;
+        writer.finish().map_err(error)?;
+    }
+    write_atomic(path, &bytes)
+}
+
 /// Writes `bytes` to `path` atomically, creating missing parent folders.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), DiffError> {
     let dir = match path.parent() {
@@ -430,7 +499,9 @@ pub fn check_golden_with(
         return Ok(());
     }
     let image = diff_image(&expected, &actual, options.threshold).map_err(size_error)?;
-    write_png_atomic(&image, &diff_path)?;
+    let expected_bytes = std::fs::read(reference).unwrap_or_default();
+    let chunks = diff_provenance(reference, &expected_bytes, Path::new("<actual image>"));
+    write_diff_png(&image, &diff_path, &chunks)?;
     Err(GoldenError::Mismatch {
         reference: reference.to_owned(),
         pixels,
@@ -456,7 +527,9 @@ fn diff_frame(
     let within = pixels.differing_pixels <= options.max_pixels;
     if let Some(out) = out {
         let image = diff_image(&expected, &actual, options.threshold).map_err(size_error)?;
-        write_png_atomic(&image, out)?;
+        let expected_bytes = std::fs::read(expected_path).unwrap_or_default();
+        let chunks = diff_provenance(expected_path, &expected_bytes, actual_path);
+        write_diff_png(&image, out, &chunks)?;
     }
     Ok(FrameDiff {
         name: name.to_owned(),
@@ -495,7 +568,8 @@ fn diff_folders(
                     mismatch,
                 },
             )?;
-            write_png_atomic(&image, &out.join(name))?;
+            let chunks = diff_provenance(&e, &std::fs::read(&e).unwrap_or_default(), &a);
+            write_diff_png(&image, &out.join(name), &chunks)?;
         }
         frames.push(frame);
     }

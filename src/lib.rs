@@ -10,6 +10,7 @@ pub mod checkpoint;
 pub mod cli;
 pub mod diff;
 pub mod error;
+pub mod figures;
 pub mod memory;
 pub mod output;
 pub mod pipeline;

@@ -19,6 +19,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use crate::checkpoint::{Checkpoint, CheckpointOptions, CheckpointWriter, RunKey};
 use crate::error::{Error, Result};
 use crate::output::{self, Failure, Manifest, Timings};
+use crate::render::layers::TraceRecorder;
 use crate::render::{encode_png, ArrowScales, Compression, FrameView, Provenance, Renderer};
 use crate::scene::Scene;
 use crate::sim::{BlowUp, IntegratorKind, Simulation};
@@ -65,6 +66,8 @@ struct Job {
     force: Option<Vec<DVec2>>,
     /// Positions at frames 0 ..= index, when trails are on.
     trail: Option<Vec<Arc<[DVec2]>>>,
+    /// Trace curves' points at frames 0 ..= index, when the scene has traces.
+    traces: Option<Vec<Arc<[DVec2]>>>,
 }
 
 /// Stage times summed over the workers, in nanoseconds.
@@ -159,11 +162,14 @@ pub fn render_with(
         n => n,
     };
     // The run starts from the nearest checkpoint at or before its first frame, if any.
+    // Trace curves need every frame's values from t = 0, which checkpoints do not hold,
+    // so a scene with traces always starts at t = 0.
     let key = RunKey::new(scene, integrator);
+    let has_traces = TraceRecorder::new(scene).is_some();
     let start: Option<Checkpoint> = extras
         .checkpoints
         .as_ref()
-        .filter(|_| crate::checkpoint::supports(integrator).is_ok())
+        .filter(|_| crate::checkpoint::supports(integrator).is_ok() && !has_traces)
         .and_then(|c| crate::checkpoint::nearest(&c.dir, &key, range.start));
     let mut checkpoints = match extras
         .checkpoints
@@ -213,6 +219,7 @@ pub fn render_with(
 
         // The simulation runs only as far as the last frame asked for.
         let mut history: Vec<Arc<[DVec2]>> = Vec::new();
+        let mut traces = TraceRecorder::new(scene);
         let mut first = 0;
         if let Some(c) = &start {
             sim = c.restore(scene, integrator);
@@ -233,6 +240,9 @@ pub fn render_with(
             let pos: Arc<[DVec2]> = Arc::from(state.pos.as_slice());
             if trails {
                 history.push(Arc::clone(&pos));
+            }
+            if let Some(traces) = &mut traces {
+                traces.record(state.t, &state.pos, &state.vel);
             }
             if let Some(Err(e)) = checkpoints
                 .as_mut()
@@ -259,6 +269,7 @@ pub fn render_with(
                 vel: state.vel.clone(),
                 force,
                 trail: trails.then(|| history.clone()),
+                traces: traces.as_ref().map(|r| r.history().to_vec()),
             };
             simulate += started.elapsed();
             if sender.send(job).is_err() {
@@ -366,6 +377,7 @@ fn draw_and_write(
         vel: &job.vel,
         force: job.force.as_deref(),
         trail: job.trail.as_deref(),
+        traces: job.traces.as_deref(),
     };
     let pixmap = renderer.draw(&view);
     let drawn = StageClock::add(&clock.draw, started);

@@ -72,6 +72,22 @@ pub fn run(args: CheckArgs, verbosity: Verbosity) -> Result<()> {
     for f in &scene.forces {
         outln!(out, "    {}", f.kind_name());
     }
+    let layers = &scene.layers;
+    if layers.axes.is_some() || !layers.fields.is_empty() || !layers.curves.is_empty() {
+        outln!(
+            out,
+            "  figure: {}, {} field{}, {} curve{}",
+            if layers.axes.is_some() {
+                "axes"
+            } else {
+                "no axes"
+            },
+            layers.fields.len(),
+            if layers.fields.len() == 1 { "" } else { "s" },
+            layers.curves.len(),
+            if layers.curves.len() == 1 { "" } else { "s" }
+        );
+    }
     if verbosity.verbose {
         for o in &scene.source.overrides {
             outln!(out, "  override: --set {o}");

@@ -6,7 +6,9 @@
 mod check;
 mod checkpoint;
 mod completions;
+mod diff;
 mod export;
+mod figure;
 mod new_scene;
 mod render;
 
@@ -70,6 +72,11 @@ enum Command {
     New(new_scene::NewArgs),
     /// Print a shell completion script: bash, zsh, fish, elvish or powershell.
     Completions(completions::CompletionsArgs),
+    /// Draw a built-in figure, or one frame of a scene, to one PNG.
+    Figure(figure::FigureArgs),
+    /// Compare two PNGs or two folders of frames; exit 0 when within tolerance, 1 when
+    /// different, 2 when they cannot be compared.
+    Diff(diff::DiffArgs),
 }
 
 /// Flags shared by the commands that load a scene.
@@ -184,6 +191,8 @@ fn run(cli: Cli) -> Result<()> {
         Command::Checkpoint(args) => checkpoint::run(args, verbosity),
         Command::New(args) => new_scene::run(args, verbosity),
         Command::Completions(args) => completions::run(args),
+        Command::Figure(args) => figure::run(args),
+        Command::Diff(args) => diff::run(args),
     }
 }
 

@@ -9,6 +9,7 @@ pub mod bodies;
 pub mod camera;
 pub mod clip;
 pub mod encode;
+pub mod layers;
 pub mod plot;
 pub mod text;
 pub mod ticks;
@@ -40,6 +41,9 @@ pub struct FrameView<'a> {
     pub force: Option<&'a [DVec2]>,
     /// The positions at every frame so far (0 ..= index), when trails are on.
     pub trail: Option<&'a [Arc<[DVec2]>]>,
+    /// The points of the scene's trace curves at every frame so far (0 ..= index), one
+    /// per trace, when the scene has traces (see [`layers::TraceRecorder`]).
+    pub traces: Option<&'a [Arc<[DVec2]>]>,
 }
 
 /// World length per unit of velocity and per unit of force, for the arrows.
@@ -89,6 +93,8 @@ pub struct Renderer {
     static_layer: Pixmap,
     looks: Vec<BodyLook>,
     arrows: ArrowScales,
+    /// Axes, fields, curves, legend and HUD.
+    overlay: layers::Overlay,
 }
 
 /// The colour of velocity arrows.
@@ -105,15 +111,22 @@ impl Renderer {
     /// Prepares everything about a scene's frames that does not change between them.
     pub fn new(scene: &Scene, arrows: ArrowScales) -> Self {
         let r = &scene.render;
-        let camera = Camera::fit(r.view, r.width, r.height);
+        // One transform for bodies and layers: the camera of the axes' plot area when
+        // the scene has `[axes]`, else the view fitted to the whole image.
+        let (overlay, camera) = layers::Overlay::new(scene);
         let mut static_layer = Pixmap::new(r.width, r.height)
             .expect("the scene validator keeps image sides between 1 and 16384");
         static_layer.fill(bodies::color(r.background, 1.0));
-        let looks = scene
-            .bodies
-            .iter()
-            .map(|b| BodyLook::new(b, &camera))
-            .collect();
+        overlay.draw_static(&mut static_layer);
+        let looks = if r.show_bodies {
+            scene
+                .bodies
+                .iter()
+                .map(|b| BodyLook::new(b, &camera))
+                .collect()
+        } else {
+            Vec::new()
+        };
         Renderer {
             camera,
             width: r.width,
@@ -122,7 +135,13 @@ impl Renderer {
             static_layer,
             looks,
             arrows,
+            overlay,
         }
+    }
+
+    /// Returns the layers drawn around and over the bodies.
+    pub fn overlay(&self) -> &layers::Overlay {
+        &self.overlay
     }
 
     /// Returns the camera.
@@ -164,6 +183,8 @@ impl Renderer {
                 draw_arrow(&mut pixmap, &self.clip, at, d, force_color(), 2.0);
             }
         }
+        self.overlay
+            .draw_frame(&mut pixmap, &self.static_layer, frame);
         pixmap
     }
 }

@@ -470,6 +470,8 @@ struct AxisMap {
     /// Where those ends land, in pixels.
     p0: f64,
     p1: f64,
+    /// Pixels per scaled unit, (p1 - p0)/(u1 - u0), computed once.
+    ppu: f64,
 }
 
 impl AxisMap {
@@ -478,17 +480,31 @@ impl AxisMap {
             Scale::Linear => v,
             Scale::Log10 => v.log10(),
         };
+        let (u0, u1) = (scaled(axis.min), scaled(axis.max));
         Self {
             scale: axis.scale,
-            u0: scaled(axis.min),
-            u1: scaled(axis.max),
+            u0,
+            u1,
             p0,
             p1,
+            ppu: (p1 - p0) / (u1 - u0),
+        }
+    }
+
+    /// A linear axis through pixel `p0` at the value `u0`, with `ppu` pixels per unit.
+    fn affine(u0: f64, p0: f64, ppu: f64) -> Self {
+        Self {
+            scale: Scale::Linear,
+            u0,
+            u1: u0 + 1.0,
+            p0,
+            p1: p0 + ppu,
+            ppu,
         }
     }
 
     fn pixels_per_unit(&self) -> f64 {
-        (self.p1 - self.p0) / (self.u1 - self.u0)
+        self.ppu
     }
 
     /// The pixel position of `v`; NaN when `v` cannot be shown (not positive on a log axis).
@@ -519,6 +535,9 @@ impl AxisMap {
     }
 }
 
+/// One linear axis as `(v0, p0, ppu)`: the pixel is p = p0 + (v - v0)·ppu.
+pub type AxisCoefficients = (f64, f64, f64);
+
 /// The data → pixel transform of a chart: f64 data in, f32 pixels out, y pointing down.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DataToPixel {
@@ -527,6 +546,25 @@ pub struct DataToPixel {
 }
 
 impl DataToPixel {
+    /// The linear transform p = p0 + (v - v0)·ppu on each axis, from `(v0, p0, ppu)` for
+    /// x and for y (a y axis pointing up has a negative `ppu`).
+    pub fn affine(x: (f64, f64, f64), y: (f64, f64, f64)) -> Self {
+        Self {
+            x: AxisMap::affine(x.0, x.1, x.2),
+            y: AxisMap::affine(y.0, y.1, y.2),
+        }
+    }
+
+    /// The coefficients `(v0, p0, ppu)` of x and y when both axes are linear, such that
+    /// p = p0 + (v - v0)·ppu reproduces [`DataToPixel::apply_f64`] exactly.
+    pub fn linear_coefficients(&self) -> Option<(AxisCoefficients, AxisCoefficients)> {
+        let linear = self.x.scale == Scale::Linear && self.y.scale == Scale::Linear;
+        linear.then_some((
+            (self.x.u0, self.x.p0, self.x.ppu),
+            (self.y.u0, self.y.p0, self.y.ppu),
+        ))
+    }
+
     /// The pixel position of the data point `(x, y)`. A coordinate that a log axis cannot
     /// show (zero or negative) maps to NaN.
     pub fn apply(&self, x: f64, y: f64) -> (f32, f32) {
@@ -569,7 +607,8 @@ pub struct Chart {
     x_ticks: AxisTicks,
     y_ticks: AxisTicks,
     map: DataToPixel,
-    clip: Mask,
+    /// The inside of the frame; `None` when the plot area is the whole canvas.
+    clip: Option<Mask>,
 }
 
 impl Chart {
@@ -644,8 +683,45 @@ impl Chart {
             x_ticks: layout.x_ticks,
             y_ticks: layout.y_ticks,
             map,
-            clip,
+            clip: Some(clip),
         })
+    }
+
+    /// A chart without furniture whose plot area is the whole `width × height` canvas
+    /// and whose data → pixel transform is `map`: the data helpers then draw a world
+    /// scene's layers with the camera's own transform, clipped only by the canvas.
+    pub fn bare(width: u32, height: u32, map: DataToPixel) -> Result<Chart, ChartError> {
+        let plot = IntRect::from_xywh(0, 0, width, height)
+            .ok_or(ChartError::TooSmall { width, height })?;
+        let (lo, hi) = (
+            map.invert(0.0, height as f32),
+            map.invert(width as f32, 0.0),
+        );
+        let mut spec = ChartSpec::new(Axis::linear(lo.0, hi.0, ""), Axis::linear(lo.1, hi.1, ""));
+        spec.theme.frame_width = 0.0;
+        Ok(Chart {
+            spec,
+            canvas: (width, height),
+            region: plot,
+            plot,
+            frame_px: 0,
+            x_ticks: AxisTicks::default(),
+            y_ticks: AxisTicks::default(),
+            map,
+            clip: None,
+        })
+    }
+
+    /// The inside of the frame, where data is drawn, as (left, top, right, bottom).
+    pub fn inner_area(&self) -> IntRect {
+        let f = self.frame_px as i32;
+        IntRect::from_ltrb(
+            self.plot.left() + f,
+            self.plot.top() + f,
+            self.plot.right() - f,
+            self.plot.bottom() - f,
+        )
+        .unwrap_or(self.plot)
     }
 
     /// What the chart shows.
@@ -720,7 +796,7 @@ impl Chart {
             pixmap,
             frame,
             Color::from_rgba8(255, 255, 255, 0xcc),
-            Some(&self.clip),
+            self.clip.as_ref(),
         );
         let border = PathBuilder::from_rect(
             Rect::from_ltrb(
@@ -941,7 +1017,11 @@ impl Chart {
     fn mask_for(&self, pixmap: &Pixmap) -> Option<&Mask> {
         let fits = (pixmap.width(), pixmap.height()) == self.canvas;
         debug_assert!(fits, "draw into a pixmap of the chart's canvas size");
-        fits.then_some(&self.clip)
+        if fits {
+            self.clip.as_ref()
+        } else {
+            None
+        }
     }
 
     /// The plot area grown by `margin` pixels, as (left, top, right, bottom).
@@ -1021,7 +1101,7 @@ impl Chart {
             }
         }
         if let Some(path) = builder.finish() {
-            stroke_path(pixmap, &path, &style, Some(&self.clip));
+            stroke_path(pixmap, &path, &style, self.clip.as_ref());
         }
     }
 

@@ -9,7 +9,9 @@
 
 mod color;
 mod diagnostic;
+pub mod expr;
 mod frontend;
+pub mod layers;
 mod overrides;
 pub mod raw;
 mod validate;
@@ -21,6 +23,7 @@ use glam::DVec2;
 pub use color::Rgba;
 pub use diagnostic::{Diagnostic, SceneError, Sources};
 pub use frontend::hash_with_overrides;
+pub use layers::Layers;
 pub use validate::{parse, MAX_FRAMES, MAX_IMAGE_SIDE};
 
 use crate::sim::{ForceSpec, IntegratorKind, State, System};
@@ -40,6 +43,8 @@ pub struct Scene {
     pub bodies: Vec<Body>,
     /// The forces, in file order.
     pub forces: Vec<ForceSpec>,
+    /// Axes, fields and curves drawn with the bodies (see [`layers`]).
+    pub layers: Layers,
 }
 
 /// Where a scene came from.
@@ -86,6 +91,10 @@ pub struct RenderSettings {
     /// World length of a force arrow per unit of force; `None` fits it to the
     /// largest force at t = 0.
     pub force_scale: Option<f64>,
+    /// Whether each frame shows a line with t and the frame number.
+    pub hud: bool,
+    /// Whether the bodies are drawn (a phase plot may show only their traces).
+    pub show_bodies: bool,
     /// Steps between two frames: 1/fps = steps_per_frame·dt.
     pub steps_per_frame: u64,
     /// Number of frames: k = 0 ..= floor(duration·fps).

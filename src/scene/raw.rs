@@ -60,6 +60,11 @@ pub struct RawScene {
     pub body: Vec<Spanned<RawBody>>,
     #[serde(default)]
     pub force: Vec<Spanned<RawForce>>,
+    pub axes: Option<Spanned<super::layers::RawAxes>>,
+    #[serde(default)]
+    pub field: Vec<Spanned<super::layers::RawField>>,
+    #[serde(default)]
+    pub curve: Vec<Spanned<super::layers::RawCurve>>,
 }
 
 /// The `[simulation]` table.
@@ -83,6 +88,8 @@ pub struct RawRender {
     pub trails: Option<Spanned<bool>>,
     pub velocity_scale: Option<Spanned<f64>>,
     pub force_scale: Option<Spanned<f64>>,
+    pub hud: Option<Spanned<bool>>,
+    pub show_bodies: Option<Spanned<bool>>,
 }
 
 /// The world rectangle a frame shows.

@@ -105,6 +105,17 @@ impl Validator {
             })
             .collect();
         let forces = self.forces(&raw.force, &names);
+        let layers = super::layers::LayerCheck {
+            text,
+            diagnostics: &mut self.diagnostics,
+            bodies: &names,
+            bodies_drawn: !names.is_empty()
+                && render_raw
+                    .and_then(|r| r.get_ref().show_bodies.as_ref())
+                    .is_none_or(|s| *s.get_ref()),
+            view,
+        }
+        .run(raw.axes.as_ref(), &raw.field, &raw.curve);
         if let (Some(bodies), Some(render)) = (&bodies, &render) {
             self.shapes_fit_the_rasteriser(&raw.body, bodies, render);
         }
@@ -120,6 +131,7 @@ impl Validator {
             render: render?,
             bodies: bodies?,
             forces: forces?,
+            layers: layers?,
         })
     }
 
@@ -278,6 +290,8 @@ impl Validator {
             None => Some(Rgba::WHITE),
         };
         let trails = r.trails.as_ref().is_some_and(|t| *t.get_ref());
+        let hud = r.hud.as_ref().is_some_and(|h| *h.get_ref());
+        let show_bodies = r.show_bodies.as_ref().is_none_or(|s| *s.get_ref());
         let velocity_scale = r
             .velocity_scale
             .as_ref()
@@ -307,6 +321,8 @@ impl Validator {
             view: view?,
             background: background?,
             trails,
+            hud,
+            show_bodies,
             velocity_scale: velocity_scale.map_or(Some(None), |s| s.map(Some))?,
             force_scale: force_scale.map_or(Some(None), |s| s.map(Some))?,
             steps_per_frame,

@@ -12,10 +12,12 @@
 
 pub mod forces;
 pub mod integrators;
+pub mod scalar_ode;
 mod simulation;
 mod system;
 
 pub use forces::{Anchor, ForceSpec, Selection};
 pub use integrators::{Integrator, IntegratorKind, Stepper};
+pub use scalar_ode::ScalarMethod;
 pub use simulation::{BlowUp, Simulation};
 pub use system::{State, System};

@@ -5,6 +5,8 @@ mod bad_input;
 mod cli_extras;
 mod closed_forms;
 mod diagnostics;
+mod figures;
+mod golden;
 mod properties;
 mod render_cli;
 mod resume;

@@ -137,6 +137,7 @@ fn render_all(text: &str) -> Vec<Vec<u8>> {
             vel: &sim.state().vel,
             force: Some(&force),
             trail: Some(&trail),
+            traces: None,
         };
         let pixmap = renderer.draw(&view);
         frames.push(

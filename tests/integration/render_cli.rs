@@ -13,6 +13,7 @@ const EXAMPLES: &[(&str, u64)] = &[
     ("terminal-velocity.toml", 101),
     ("spring.toml", 151),
     ("centre-of-mass.toml", 101),
+    ("drag-phase.toml", 126),
 ];
 
 fn manifest(path: &Path) -> serde_json::Value {
