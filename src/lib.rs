@@ -7,3 +7,4 @@
 //! only reads simulation state.
 
 pub mod sim;
+pub mod study;
