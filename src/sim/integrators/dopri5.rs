@@ -256,83 +256,115 @@ impl Dopri5 {
     ) -> (f64, u32) {
         let mut evaluations = self.ensure_first_stage(system, t, pos, vel);
         let n = pos.len();
-        let (r0, v0) = (&pos[..n], &vel[..n]);
-        let sp = &mut self.stage_pos[..n];
-        let a1 = &self.a1[..n];
+        // Every buffer as a slice of exactly n bodies, borrowed apart: the loops below
+        // then need no bounds checks and the compiler knows the buffers do not overlap.
+        let Dopri5 {
+            a1,
+            a2,
+            a3,
+            a4,
+            a5,
+            a6,
+            a7,
+            v2,
+            v3,
+            v4,
+            v5,
+            v6,
+            v7,
+            stage_pos,
+            new_pos,
+            ..
+        } = self;
+        let (r0, v0, a1) = (&pos[..n], &vel[..n], &a1[..n]);
+        let sp = &mut stage_pos[..n];
+        let (v2, v3, v4, v5, v6, v7) = (
+            &mut v2[..n],
+            &mut v3[..n],
+            &mut v4[..n],
+            &mut v5[..n],
+            &mut v6[..n],
+            &mut v7[..n],
+        );
+        let (a2, a3, a4, a5, a6, a7) = (
+            &mut a2[..n],
+            &mut a3[..n],
+            &mut a4[..n],
+            &mut a5[..n],
+            &mut a6[..n],
+            &mut a7[..n],
+        );
+        let r1 = &mut new_pos[..n];
 
+        // Stage 2: R2 = r + h·a21·V1, V2 = v + h·a21·A1.
+        let b = h * A21;
         for i in 0..n {
-            // R2 = r + h·a21·V1, V2 = v + h·a21·A1.
-            sp[i] = r0[i] + h * (A21 * v0[i]);
-            self.v2[i] = v0[i] + h * (A21 * a1[i]);
+            sp[i] = r0[i] + b * v0[i];
+            v2[i] = v0[i] + b * a1[i];
         }
-        system.accelerations(t + C2 * h, sp, &self.v2, &mut self.a2);
+        system.accelerations(t + C2 * h, sp, v2, a2);
 
-        let (v2, a2) = (&self.v2[..n], &self.a2[..n]);
+        // Stage 3: R3 = r + h·(a31·V1 + a32·V2), V3 = v + h·(a31·A1 + a32·A2).
+        let (b1, b2) = (h * A31, h * A32);
         for i in 0..n {
-            // R3 = r + h·(a31·V1 + a32·V2), V3 = v + h·(a31·A1 + a32·A2).
-            sp[i] = r0[i] + h * (A31 * v0[i] + A32 * v2[i]);
-            self.v3[i] = v0[i] + h * (A31 * a1[i] + A32 * a2[i]);
+            sp[i] = r0[i] + (b1 * v0[i] + b2 * v2[i]);
+            v3[i] = v0[i] + (b1 * a1[i] + b2 * a2[i]);
         }
-        system.accelerations(t + C3 * h, sp, &self.v3, &mut self.a3);
+        system.accelerations(t + C3 * h, sp, v3, a3);
 
-        let (v3, a3) = (&self.v3[..n], &self.a3[..n]);
+        // Stage 4: R4 = r + h·(a41·V1 + a42·V2 + a43·V3), and V4 likewise from A1 … A3.
+        let (b1, b2, b3) = (h * A41, h * A42, h * A43);
         for i in 0..n {
-            // R4 = r + h·(a41·V1 + a42·V2 + a43·V3), and V4 likewise from A1 … A3.
-            sp[i] = r0[i] + h * (A41 * v0[i] + A42 * v2[i] + A43 * v3[i]);
-            self.v4[i] = v0[i] + h * (A41 * a1[i] + A42 * a2[i] + A43 * a3[i]);
+            sp[i] = r0[i] + (b1 * v0[i] + b2 * v2[i] + b3 * v3[i]);
+            v4[i] = v0[i] + (b1 * a1[i] + b2 * a2[i] + b3 * a3[i]);
         }
-        system.accelerations(t + C4 * h, sp, &self.v4, &mut self.a4);
+        system.accelerations(t + C4 * h, sp, v4, a4);
 
-        let (v4, a4) = (&self.v4[..n], &self.a4[..n]);
+        // Stage 5: R5 = r + h·(a51·V1 + a52·V2 + a53·V3 + a54·V4), and V5 likewise.
+        let (b1, b2, b3, b4) = (h * A51, h * A52, h * A53, h * A54);
         for i in 0..n {
-            // R5 = r + h·(a51·V1 + a52·V2 + a53·V3 + a54·V4), and V5 likewise.
-            sp[i] = r0[i] + h * (A51 * v0[i] + A52 * v2[i] + A53 * v3[i] + A54 * v4[i]);
-            self.v5[i] = v0[i] + h * (A51 * a1[i] + A52 * a2[i] + A53 * a3[i] + A54 * a4[i]);
+            sp[i] = r0[i] + (b1 * v0[i] + b2 * v2[i] + b3 * v3[i] + b4 * v4[i]);
+            v5[i] = v0[i] + (b1 * a1[i] + b2 * a2[i] + b3 * a3[i] + b4 * a4[i]);
         }
-        system.accelerations(t + C5 * h, sp, &self.v5, &mut self.a5);
+        system.accelerations(t + C5 * h, sp, v5, a5);
 
-        let (v5, a5) = (&self.v5[..n], &self.a5[..n]);
+        // Stage 6: R6 = r + h·(a61·V1 + … + a65·V5), and V6 likewise; c6 = 1.
+        let (b1, b2, b3, b4, b5) = (h * A61, h * A62, h * A63, h * A64, h * A65);
         for i in 0..n {
-            // R6 = r + h·(a61·V1 + … + a65·V5), and V6 likewise.
-            sp[i] =
-                r0[i] + h * (A61 * v0[i] + A62 * v2[i] + A63 * v3[i] + A64 * v4[i] + A65 * v5[i]);
-            self.v6[i] =
-                v0[i] + h * (A61 * a1[i] + A62 * a2[i] + A63 * a3[i] + A64 * a4[i] + A65 * a5[i]);
+            sp[i] = r0[i] + (b1 * v0[i] + b2 * v2[i] + b3 * v3[i] + b4 * v4[i] + b5 * v5[i]);
+            v6[i] = v0[i] + (b1 * a1[i] + b2 * a2[i] + b3 * a3[i] + b4 * a4[i] + b5 * a5[i]);
         }
-        system.accelerations(t + h, sp, &self.v6, &mut self.a6);
+        system.accelerations(t + h, sp, v6, a6);
 
-        let (v6, a6) = (&self.v6[..n], &self.a6[..n]);
-        let r1 = &mut self.new_pos[..n];
+        // The fifth-order result, with b_i = a7i (b2 = b7 = 0):
+        // R7 = r + h·(b1·V1 + b3·V3 + b4·V4 + b5·V5 + b6·V6), and V7 likewise.
+        let (b1, b3, b4, b5, b6) = (h * A71, h * A73, h * A74, h * A75, h * A76);
         for i in 0..n {
-            // The fifth-order result, b_i = a7i (b2 = b7 = 0):
-            // R7 = r + h·(b1·V1 + b3·V3 + b4·V4 + b5·V5 + b6·V6), and V7 likewise.
-            r1[i] =
-                r0[i] + h * (A71 * v0[i] + A73 * v3[i] + A74 * v4[i] + A75 * v5[i] + A76 * v6[i]);
-            self.v7[i] =
-                v0[i] + h * (A71 * a1[i] + A73 * a3[i] + A74 * a4[i] + A75 * a5[i] + A76 * a6[i]);
+            r1[i] = r0[i] + (b1 * v0[i] + b3 * v3[i] + b4 * v4[i] + b5 * v5[i] + b6 * v6[i]);
+            v7[i] = v0[i] + (b1 * a1[i] + b3 * a3[i] + b4 * a4[i] + b5 * a5[i] + b6 * a6[i]);
         }
         // A7 = a(t + h, R7, V7): the error estimate needs it, and it is the next A1.
-        system.accelerations(t + h, r1, &self.v7, &mut self.a7);
+        system.accelerations(t + h, r1, v7, a7);
         evaluations += 6;
 
-        let (v7, a7) = (&self.v7[..n], &self.a7[..n]);
-        let mut sum = 0.0;
+        // y1 - ŷ1 = h·Σ E_i·k_i, position part from the V_i, velocity part from the A_i,
+        // each component divided by sc = atol + rtol·max(|y0|, |y1|).
+        let (e1, e3, e4, e5, e6, e7) = (h * E1, h * E3, h * E4, h * E5, h * E6, h * E7);
+        let (atol, rtol) = (DVec2::splat(tol.atol), DVec2::splat(tol.rtol));
+        let mut sum = DVec2::ZERO;
         for i in 0..n {
-            // y1 - ŷ1 = h·Σ E_i·k_i, position part from the V_i, velocity part from the A_i.
-            let er =
-                h * (E1 * v0[i] + E3 * v3[i] + E4 * v4[i] + E5 * v5[i] + E6 * v6[i] + E7 * v7[i]);
-            let ev =
-                h * (E1 * a1[i] + E3 * a3[i] + E4 * a4[i] + E5 * a5[i] + E6 * a6[i] + E7 * a7[i]);
-            // sc = atol + rtol·max(|y0|, |y1|), per component.
-            let sr = tol.atol + tol.rtol * r0[i].abs().max(r1[i].abs());
-            let sv = tol.atol + tol.rtol * v0[i].abs().max(v7[i].abs());
-            sum += (er / sr).length_squared() + (ev / sv).length_squared();
+            let er = e1 * v0[i] + e3 * v3[i] + e4 * v4[i] + e5 * v5[i] + e6 * v6[i] + e7 * v7[i];
+            let ev = e1 * a1[i] + e3 * a3[i] + e4 * a4[i] + e5 * a5[i] + e6 * a6[i] + e7 * a7[i];
+            let sr = atol + rtol * r0[i].abs().max(r1[i].abs());
+            let sv = atol + rtol * v0[i].abs().max(v7[i].abs());
+            let (qr, qv) = (er / sr, ev / sv);
+            sum += qr * qr + qv * qv;
         }
         self.candidate_t = t + h;
         let error = if n == 0 {
             0.0
         } else {
-            (sum / (4 * n) as f64).sqrt()
+            ((sum.x + sum.y) / (4 * n) as f64).sqrt()
         };
         (error, evaluations)
     }
@@ -367,14 +399,15 @@ impl Dopri5 {
 /// after a rejection may not grow.
 #[derive(Clone, Debug)]
 pub struct StepController {
-    err_prev: f64,
+    /// ln(err_prev), the logarithm of the last accepted error (at least 10⁻⁴).
+    ln_err_prev: f64,
     rejected: bool,
 }
 
 impl Default for StepController {
     fn default() -> Self {
         StepController {
-            err_prev: 1e-4,
+            ln_err_prev: 1e-4f64.ln(),
             rejected: false,
         }
     }
@@ -395,22 +428,27 @@ impl StepController {
     /// Decides whether a step of size `h` with error norm `err` is accepted, and returns
     /// that decision with the size of the next step. A non-finite error is a rejection
     /// with the largest reduction.
+    ///
+    /// The powers are computed from logarithms, err^α·err_prev^(-β) =
+    /// exp(α·ln err - β·ln err_prev): one logarithm and one exponential per step instead
+    /// of two general powers, which cost as much as the rest of the step control.
     pub fn decide(&mut self, err: f64, h: f64) -> (bool, f64) {
-        // err^α, the integral part.
-        let fac11 = err.powf(Self::ALPHA);
+        let ln_err = err.ln();
         if err <= 1.0 {
             // 1/factor = clamp(err^α · err_prev^(-β) / safety, 1/10, 5).
-            let inv = (fac11 * self.err_prev.powf(-Self::BETA) / Self::SAFETY)
+            let inv = ((Self::ALPHA * ln_err - Self::BETA * self.ln_err_prev).exp() / Self::SAFETY)
                 .clamp(1.0 / Self::MAX_FACTOR, 1.0 / Self::MIN_FACTOR);
             let mut h_new = h / inv;
             if self.rejected {
                 h_new = h_new.min(h);
             }
-            self.err_prev = err.max(1e-4);
+            // err_prev = max(err, 10⁻⁴), kept as its logarithm.
+            self.ln_err_prev = ln_err.max(1e-4f64.ln());
             self.rejected = false;
             (true, h_new)
         } else {
             // h_new = h / min(5, err^α / safety); f64::min ignores a NaN error.
+            let fac11 = (Self::ALPHA * ln_err).exp();
             self.rejected = true;
             (
                 false,
