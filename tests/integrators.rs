@@ -609,3 +609,31 @@ fn reset_reproduces_a_run_bit_for_bit() {
         );
     }
 }
+
+#[test]
+fn every_integrator_reports_a_blow_up_instead_of_panicking() {
+    // Quadratic drag on a speed of 1e160 is a force of 1e320, which overflows to
+    // infinity: every method must stop with a BlowUp naming the body, and dopri5 must not
+    // loop for ever shrinking its step (it accepts a step at the smallest size, and the
+    // check after it reports the non-finite state).
+    let system = System::new(
+        vec![1.0, 1.0],
+        &[ForceSpec::QuadraticDrag {
+            c: 1.0,
+            bodies: Selection::Bodies(vec![1]),
+        }],
+    );
+    let initial = State {
+        t: 0.0,
+        pos: vec![DVec2::ZERO, DVec2::ZERO],
+        vel: vec![DVec2::new(1.0, 0.0), DVec2::new(1e160, 0.0)],
+    };
+    for &kind in IntegratorKind::ALL {
+        let mut sim = Simulation::new(system.clone(), initial.clone(), kind, 0.01);
+        let err = sim
+            .advance_to(1.0)
+            .expect_err(&format!("{kind} should blow up"));
+        assert_eq!(err.body, 1, "{kind}: {err}");
+        assert!(err.step >= 1, "{kind}: {err}");
+    }
+}
