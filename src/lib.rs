@@ -17,3 +17,4 @@ pub mod pipeline;
 pub mod render;
 pub mod scene;
 pub mod sim;
+pub mod study;

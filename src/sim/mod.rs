@@ -17,7 +17,7 @@ mod simulation;
 mod system;
 
 pub use forces::{Anchor, ForceSpec, Selection};
-pub use integrators::{Integrator, IntegratorKind, Stepper};
+pub use integrators::{Integrator, IntegratorKind, Stepper, Tolerances};
 pub use scalar_ode::ScalarMethod;
 pub use simulation::{BlowUp, Simulation};
 pub use system::{State, System};

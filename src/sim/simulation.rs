@@ -4,6 +4,7 @@ use std::fmt;
 
 use glam::DVec2;
 
+use super::integrators::{StepController, Tolerances};
 use super::{IntegratorKind, State, Stepper, System};
 
 /// A simulation whose state stopped being finite.
@@ -29,11 +30,19 @@ impl fmt::Display for BlowUp {
     }
 }
 
-/// A system, its state and an integrator, advanced with a fixed step h.
+/// A system, its state and an integrator, advanced with a fixed step h, or, for an
+/// adaptive method, with steps of at most h chosen by error control.
 ///
-/// Time is kept as a step count n, and t = n·h is computed from it, so that a long run
-/// does not accumulate rounding in t and the state at a frame is the state at exactly
-/// the step that frame names.
+/// For a fixed step, time is kept as a step count n, and t = n·h is computed from it, so
+/// that a long run does not accumulate rounding in t and the state at a frame is the
+/// state at exactly the step that frame names.
+///
+/// For an adaptive method (dopri5), h is the largest step allowed, the first step is
+/// chosen by the starting-step heuristic of Hairer, Nørsett and Wanner (and is at most
+/// h), and every later step by the PI controller of [`StepController`] from the
+/// [`Tolerances`]. [`Simulation::advance_to`] lands exactly on the requested time by
+/// shortening the last step (see there), so every state a frame shows is the result of
+/// an accepted, error-controlled step.
 #[derive(Clone, Debug)]
 pub struct Simulation {
     system: System,
@@ -42,15 +51,42 @@ pub struct Simulation {
     h: f64,
     t0: f64,
     steps: u64,
+    adaptive: Option<Adaptive>,
+}
+
+/// The step-size control of an adaptive run.
+#[derive(Clone, Debug)]
+struct Adaptive {
+    tol: Tolerances,
+    controller: StepController,
+    /// The size of the next step, or `None` before the first.
+    h_next: Option<f64>,
+    /// Steps rejected so far.
+    rejected: u64,
+}
+
+impl Adaptive {
+    fn new(tol: Tolerances) -> Self {
+        Adaptive {
+            tol,
+            controller: StepController::default(),
+            h_next: None,
+            rejected: 0,
+        }
+    }
 }
 
 impl Simulation {
-    /// Creates a simulation that starts from `initial` and steps by `h`.
+    /// Creates a simulation that starts from `initial` and steps by `h` (for an adaptive
+    /// method: by at most `h`, with the default [`Tolerances`]).
     pub fn new(system: System, initial: State, kind: IntegratorKind, h: f64) -> Self {
         debug_assert_eq!(system.len(), initial.len());
         debug_assert!(h > 0.0 && h.is_finite());
         let stepper = Stepper::new(kind, system.len());
         let t0 = initial.t;
+        let adaptive = kind
+            .is_adaptive()
+            .then(|| Adaptive::new(Tolerances::default()));
         Simulation {
             system,
             stepper,
@@ -58,6 +94,42 @@ impl Simulation {
             h,
             t0,
             steps: 0,
+            adaptive,
+        }
+    }
+
+    /// Sets the tolerances of an adaptive method (ignored by a fixed-step one), and
+    /// returns the simulation.
+    pub fn with_tolerances(mut self, tol: Tolerances) -> Self {
+        self.set_tolerances(tol);
+        self
+    }
+
+    /// Sets the tolerances of an adaptive method; a fixed-step method ignores them.
+    pub fn set_tolerances(&mut self, tol: Tolerances) {
+        debug_assert!(tol.rtol >= 0.0 && tol.atol >= 0.0 && tol.rtol + tol.atol > 0.0);
+        if let Some(a) = &mut self.adaptive {
+            a.tol = tol;
+        }
+    }
+
+    /// Returns the tolerances of an adaptive method, or `None` for a fixed step.
+    pub fn tolerances(&self) -> Option<Tolerances> {
+        self.adaptive.as_ref().map(|a| a.tol)
+    }
+
+    /// Starts again from `initial`, reusing every buffer: the counters return to zero and
+    /// an adaptive method chooses its first step afresh.
+    pub fn reset(&mut self, initial: &State) {
+        debug_assert_eq!(initial.len(), self.system.len());
+        self.state.t = initial.t;
+        self.state.pos.copy_from_slice(&initial.pos);
+        self.state.vel.copy_from_slice(&initial.vel);
+        self.t0 = initial.t;
+        self.steps = 0;
+        self.stepper.reset();
+        if let Some(a) = &mut self.adaptive {
+            *a = Adaptive::new(a.tol);
         }
     }
 
@@ -88,17 +160,23 @@ impl Simulation {
         &self.system
     }
 
-    /// Returns the step size h.
+    /// Returns the step size h (for an adaptive method, the largest step allowed).
     pub fn h(&self) -> f64 {
         self.h
     }
 
-    /// Returns the number of steps taken so far.
+    /// Returns the number of steps taken (for an adaptive method, accepted) so far.
     pub fn steps(&self) -> u64 {
         self.steps
     }
 
-    /// Returns the number of force evaluations so far.
+    /// Returns the number of steps an adaptive method rejected so far (0 for a fixed step).
+    pub fn rejected_steps(&self) -> u64 {
+        self.adaptive.as_ref().map_or(0, |a| a.rejected)
+    }
+
+    /// Returns the number of force evaluations so far, including those of rejected steps
+    /// and of the starting-step heuristic.
     pub fn evaluations(&self) -> u64 {
         self.stepper.evaluations()
     }
@@ -114,8 +192,12 @@ impl Simulation {
         self.system.net_forces(s.t, &s.pos, &s.vel, force);
     }
 
-    /// Takes one step of size h, then checks that the state is still finite.
+    /// Takes one step (for an adaptive method: one accepted step of the size the
+    /// controller chooses), then checks that the state is still finite.
     pub fn step(&mut self) -> Result<(), BlowUp> {
+        if self.adaptive.is_some() {
+            return self.adaptive_step(f64::INFINITY);
+        }
         let t = self.state.t;
         self.stepper.step(
             &self.system,
@@ -138,15 +220,85 @@ impl Simulation {
         Ok(())
     }
 
-    /// Advances to the step nearest time `t_end` (for a fixed step, `t_end` should be a
+    /// Advances to time `t_end`.
+    ///
+    /// With a fixed step, it advances to the step nearest `t_end` (which should be a
     /// whole number of steps from the start; frame times are, by validation).
+    ///
+    /// With an adaptive method, it lands exactly on `t_end`: when the step the controller
+    /// proposes would reach past `t_end`, or stop short of it by less than 1% of a step,
+    /// the step is set to end exactly there (the rule of Hairer's DOPRI5). The shortened
+    /// step is error-controlled like any other, so the state at `t_end` meets the
+    /// tolerances; the alternative, dense output, would evaluate a fourth-order
+    /// interpolant whose error the controller never checks. The price is at most one
+    /// extra step per output time. After a shortened step the next step resumes at the
+    /// size proposed before shortening (or larger, if the controller asks), so frequent
+    /// frames do not ratchet the step size down.
     pub fn advance_to(&mut self, t_end: f64) -> Result<(), BlowUp> {
+        if self.adaptive.is_some() {
+            while self.state.t < t_end {
+                self.adaptive_step(t_end)?;
+            }
+            return Ok(());
+        }
         let target = ((t_end - self.t0) / self.h).round();
         let target = if target > 0.0 { target as u64 } else { 0 };
         while self.steps < target {
             self.step()?;
         }
         Ok(())
+    }
+
+    /// Takes one accepted adaptive step that ends at or before `t_limit`, retrying with
+    /// smaller steps until the error estimate is within the tolerances.
+    ///
+    /// A step of at most h_min = 16·ε·max(|t|, h_max), too short to change t reliably, is
+    /// accepted whatever its error: when the error is only round-off, the run goes on;
+    /// when the state has stopped being finite, the check that follows reports it.
+    fn adaptive_step(&mut self, t_limit: f64) -> Result<(), BlowUp> {
+        let Some(adaptive) = self.adaptive.as_mut() else {
+            return Ok(());
+        };
+        let state = &mut self.state;
+        let t = state.t;
+        let mut h = match adaptive.h_next {
+            Some(h) => h,
+            None => self.stepper.initial_step(
+                &self.system,
+                t,
+                &state.pos,
+                &state.vel,
+                adaptive.tol,
+                self.h,
+            ),
+        };
+        // Never above h_max, so that the clamp below has its bounds in order.
+        let h_min = (16.0 * f64::EPSILON * t.abs().max(self.h)).min(self.h);
+        loop {
+            h = h.clamp(h_min, self.h);
+            let proposed = h;
+            // The last step before t_limit ends exactly on it: h = t_limit - t whenever
+            // t + 1.01·h ≥ t_limit.
+            let lands = t + 1.01 * h >= t_limit;
+            if lands {
+                h = t_limit - t;
+            }
+            let err = self
+                .stepper
+                .attempt(&self.system, t, h, &state.pos, &state.vel, adaptive.tol)
+                .unwrap_or(0.0);
+            let (accepted, h_new) = adaptive.controller.decide(err, h);
+            if accepted || h <= h_min {
+                let t_new = if lands { t_limit } else { t + h };
+                self.stepper.accept(t_new, &mut state.pos, &mut state.vel);
+                state.t = t_new;
+                self.steps += 1;
+                adaptive.h_next = Some(if lands { h_new.max(proposed) } else { h_new });
+                return self.check_finite();
+            }
+            adaptive.rejected += 1;
+            h = h_new;
+        }
     }
 
     /// Returns an error naming the first body whose state is not finite.

@@ -7,6 +7,7 @@ mod closed_forms;
 mod diagnostics;
 mod figures;
 mod golden;
+mod integrators;
 mod properties;
 mod render_cli;
 mod resume;

@@ -1,0 +1,459 @@
+//! The Dormand–Prince 5(4) embedded Runge–Kutta pair, with error control.
+//!
+//! One step computes seven stages; a fifth-order combination of them advances the state
+//! and a fourth-order combination, subtracted from it, estimates the local error. The
+//! seventh stage is evaluated at the new state, so it is the first stage of the next
+//! step ("first same as last", FSAL): an accepted step costs six force evaluations, and
+//! so does a rejected one (its first stage is still valid for the retry).
+//!
+//! The coefficients are those of Dormand and Prince (1980), as tabulated by Hairer,
+//! Nørsett and Wanner, *Solving Ordinary Differential Equations I*, §II.5, Table 5.2.
+//! The step-size controller is the PI controller of their code DOPRI5 (§IV.2).
+
+use glam::DVec2;
+
+use super::velocity_verlet::same_time;
+use crate::sim::System;
+
+/// The error tolerances of an adaptive method.
+///
+/// A step is accepted when the weighted root-mean-square of its error estimate is at most
+/// one, each component being weighted by sc = atol + rtol·max(|y0|, |y1|) (Hairer's
+/// norm, over the x and y components of every position and velocity).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tolerances {
+    /// The relative tolerance rtol > 0.
+    pub rtol: f64,
+    /// The absolute tolerance atol > 0, in the units of position and of velocity.
+    pub atol: f64,
+}
+
+impl Tolerances {
+    /// Returns tolerances with the same relative and absolute values, as in the
+    /// work-precision studies.
+    pub fn both(tol: f64) -> Self {
+        Tolerances {
+            rtol: tol,
+            atol: tol,
+        }
+    }
+}
+
+impl Default for Tolerances {
+    /// rtol = 1e-6 and atol = 1e-9: a millionth of the size of a quantity, and a
+    /// billionth of a unit where it passes through zero; far below what a frame can show.
+    fn default() -> Self {
+        Tolerances {
+            rtol: 1e-6,
+            atol: 1e-9,
+        }
+    }
+}
+
+/// The nodes c_i, the coefficients a_ij and the weights b_i of the fifth-order solution.
+const C2: f64 = 1.0 / 5.0;
+const C3: f64 = 3.0 / 10.0;
+const C4: f64 = 4.0 / 5.0;
+const C5: f64 = 8.0 / 9.0;
+const A21: f64 = 1.0 / 5.0;
+const A31: f64 = 3.0 / 40.0;
+const A32: f64 = 9.0 / 40.0;
+const A41: f64 = 44.0 / 45.0;
+const A42: f64 = -56.0 / 15.0;
+const A43: f64 = 32.0 / 9.0;
+const A51: f64 = 19372.0 / 6561.0;
+const A52: f64 = -25360.0 / 2187.0;
+const A53: f64 = 64448.0 / 6561.0;
+const A54: f64 = -212.0 / 729.0;
+const A61: f64 = 9017.0 / 3168.0;
+const A62: f64 = -355.0 / 33.0;
+const A63: f64 = 46732.0 / 5247.0;
+const A64: f64 = 49.0 / 176.0;
+const A65: f64 = -5103.0 / 18656.0;
+const A71: f64 = 35.0 / 384.0;
+const A73: f64 = 500.0 / 1113.0;
+const A74: f64 = 125.0 / 192.0;
+const A75: f64 = -2187.0 / 6784.0;
+const A76: f64 = 11.0 / 84.0;
+/// E_i = b_i - b̂_i, the difference between the fifth- and fourth-order weights.
+const E1: f64 = 71.0 / 57600.0;
+const E3: f64 = -71.0 / 16695.0;
+const E4: f64 = 71.0 / 1920.0;
+const E5: f64 = -17253.0 / 339200.0;
+const E6: f64 = 22.0 / 525.0;
+const E7: f64 = -1.0 / 40.0;
+
+/// The scratch buffers of Dormand–Prince: the stage velocities V_i and accelerations A_i.
+///
+/// With y = (r, v) and f(t, y) = (v, a(t, r, v)), stage i is the state
+/// (R_i, V_i) = (r + h·Σ_j a_ij·V_j, v + h·Σ_j a_ij·A_j) and its slope is (V_i, A_i)
+/// with A_i = a(t + c_i·h, R_i, V_i). V_1 is the starting velocity itself; R_7 and V_7
+/// are the fifth-order result.
+#[derive(Clone, Debug)]
+pub struct Dopri5 {
+    a1: Vec<DVec2>,
+    a2: Vec<DVec2>,
+    a3: Vec<DVec2>,
+    a4: Vec<DVec2>,
+    a5: Vec<DVec2>,
+    a6: Vec<DVec2>,
+    a7: Vec<DVec2>,
+    v2: Vec<DVec2>,
+    v3: Vec<DVec2>,
+    v4: Vec<DVec2>,
+    v5: Vec<DVec2>,
+    v6: Vec<DVec2>,
+    /// V_7: the candidate velocity.
+    v7: Vec<DVec2>,
+    /// The position of the stage being evaluated (R_2 … R_6).
+    stage_pos: Vec<DVec2>,
+    /// R_7: the candidate position.
+    new_pos: Vec<DVec2>,
+    /// The state (time, positions, velocities) at which A_1 was evaluated.
+    a1_t: f64,
+    a1_pos: Vec<DVec2>,
+    a1_vel: Vec<DVec2>,
+    a1_valid: bool,
+    /// The time at the end of the last attempted step.
+    candidate_t: f64,
+}
+
+impl Dopri5 {
+    /// Allocates the buffers for `n` bodies, once per run.
+    pub fn new(n: usize) -> Self {
+        let z = || vec![DVec2::ZERO; n];
+        Dopri5 {
+            a1: z(),
+            a2: z(),
+            a3: z(),
+            a4: z(),
+            a5: z(),
+            a6: z(),
+            a7: z(),
+            v2: z(),
+            v3: z(),
+            v4: z(),
+            v5: z(),
+            v6: z(),
+            v7: z(),
+            stage_pos: z(),
+            new_pos: z(),
+            a1_t: 0.0,
+            a1_pos: z(),
+            a1_vel: z(),
+            a1_valid: false,
+            candidate_t: 0.0,
+        }
+    }
+
+    /// Forgets the carried-over first stage, so that the next step evaluates it afresh.
+    pub fn reset(&mut self) {
+        self.a1_valid = false;
+    }
+
+    /// Makes A_1 = a(t, r, v) valid for the given start, evaluating it unless the
+    /// carried-over last stage of the previous step already is; returns the number of
+    /// evaluations used (0 or 1).
+    fn ensure_first_stage(&mut self, system: &System, t: f64, pos: &[DVec2], vel: &[DVec2]) -> u32 {
+        if self.a1_valid && same_time(self.a1_t, t) && self.a1_pos == pos && self.a1_vel == vel {
+            return 0;
+        }
+        system.accelerations(t, pos, vel, &mut self.a1);
+        self.a1_pos.copy_from_slice(pos);
+        self.a1_vel.copy_from_slice(vel);
+        self.a1_t = t;
+        self.a1_valid = true;
+        1
+    }
+
+    /// Chooses a first step size with the starting-step heuristic of Hairer, Nørsett and
+    /// Wanner (§II.4, "Starting Step Size"), capped at `h_max`; returns the step and the
+    /// number of force evaluations used.
+    ///
+    /// With ‖·‖ the weighted RMS norm of [`Tolerances`] (weights from y0 alone):
+    ///
+    ///   d0 = ‖y0‖, d1 = ‖f(t0, y0)‖
+    ///   h0 = 0.01·d0/d1 (or 10⁻⁶ when either is below 10⁻⁵)
+    ///   d2 = ‖f(t0 + h0, y0 + h0·f(t0, y0)) - f(t0, y0)‖ / h0
+    ///   h1 = (0.01 / max(d1, d2))^(1/5) (or max(10⁻⁶, 10⁻³·h0) when both are ≤ 10⁻¹⁵)
+    ///   h  = min(100·h0, h1, h_max)
+    ///
+    /// so that the first explicit Euler step changes y by about 1% and the fifth-order
+    /// local error, estimated from the second derivative, is about the tolerance. The
+    /// slope f(t0, y0) is the first stage of the first step, so it is kept (FSAL).
+    pub fn initial_step(
+        &mut self,
+        system: &System,
+        t: f64,
+        pos: &[DVec2],
+        vel: &[DVec2],
+        tol: Tolerances,
+        h_max: f64,
+    ) -> (f64, u32) {
+        let n = pos.len();
+        if n == 0 {
+            return (h_max, 0);
+        }
+        let mut evaluations = self.ensure_first_stage(system, t, pos, vel);
+        let count = (4 * n) as f64;
+        let (mut d0, mut d1) = (0.0, 0.0);
+        for i in 0..n {
+            let (r, v, a) = (pos[i], vel[i], self.a1[i]);
+            let sr = tol.atol + tol.rtol * r.abs();
+            let sv = tol.atol + tol.rtol * v.abs();
+            // y0 = (r, v) and f0 = (v, a), both weighted by sc = atol + rtol·|y0|.
+            d0 += (r / sr).length_squared() + (v / sv).length_squared();
+            d1 += (v / sr).length_squared() + (a / sv).length_squared();
+        }
+        let (d0, d1) = ((d0 / count).sqrt(), (d1 / count).sqrt());
+        let h0 = if d0 < 1e-5 || d1 < 1e-5 {
+            1e-6
+        } else {
+            0.01 * d0 / d1
+        };
+        let h0 = h0.min(h_max);
+        for i in 0..n {
+            // y1 = y0 + h0·f0.
+            self.stage_pos[i] = pos[i] + h0 * vel[i];
+            self.v2[i] = vel[i] + h0 * self.a1[i];
+        }
+        system.accelerations(t + h0, &self.stage_pos, &self.v2, &mut self.a2);
+        evaluations += 1;
+        let mut d2 = 0.0;
+        for i in 0..n {
+            let sr = tol.atol + tol.rtol * pos[i].abs();
+            let sv = tol.atol + tol.rtol * vel[i].abs();
+            // f1 - f0 = (v1 - v0, a1 - a0), with v1 - v0 = h0·a0.
+            let dr = self.v2[i] - vel[i];
+            let dv = self.a2[i] - self.a1[i];
+            d2 += (dr / sr).length_squared() + (dv / sv).length_squared();
+        }
+        let d2 = (d2 / count).sqrt() / h0;
+        let d = d1.max(d2);
+        let h1 = if d <= 1e-15 {
+            (h0 * 1e-3).max(1e-6)
+        } else {
+            (0.01 / d).powf(1.0 / 5.0)
+        };
+        ((100.0 * h0).min(h1).min(h_max), evaluations)
+    }
+
+    /// Computes a candidate step from `(t, pos, vel)` to `t + h` without changing the
+    /// state, and returns its weighted RMS error estimate and the number of force
+    /// evaluations used (6, or 7 when the first stage was not carried over).
+    ///
+    /// The error estimate is y1 - ŷ1 = h·Σ_i (b_i - b̂_i)·k_i, and its norm is
+    /// err = sqrt((1/N)·Σ_j ((y1 - ŷ1)_j / sc_j)²), sc_j = atol + rtol·max(|y0_j|, |y1_j|),
+    /// over the N = 4n position and velocity components.
+    pub fn attempt(
+        &mut self,
+        system: &System,
+        t: f64,
+        h: f64,
+        pos: &[DVec2],
+        vel: &[DVec2],
+        tol: Tolerances,
+    ) -> (f64, u32) {
+        let mut evaluations = self.ensure_first_stage(system, t, pos, vel);
+        let n = pos.len();
+        // Every buffer as a slice of exactly n bodies, borrowed apart: the loops below
+        // then need no bounds checks and the compiler knows the buffers do not overlap.
+        let Dopri5 {
+            a1,
+            a2,
+            a3,
+            a4,
+            a5,
+            a6,
+            a7,
+            v2,
+            v3,
+            v4,
+            v5,
+            v6,
+            v7,
+            stage_pos,
+            new_pos,
+            ..
+        } = self;
+        let (r0, v0, a1) = (&pos[..n], &vel[..n], &a1[..n]);
+        let sp = &mut stage_pos[..n];
+        let (v2, v3, v4, v5, v6, v7) = (
+            &mut v2[..n],
+            &mut v3[..n],
+            &mut v4[..n],
+            &mut v5[..n],
+            &mut v6[..n],
+            &mut v7[..n],
+        );
+        let (a2, a3, a4, a5, a6, a7) = (
+            &mut a2[..n],
+            &mut a3[..n],
+            &mut a4[..n],
+            &mut a5[..n],
+            &mut a6[..n],
+            &mut a7[..n],
+        );
+        let r1 = &mut new_pos[..n];
+
+        // Stage 2: R2 = r + h·a21·V1, V2 = v + h·a21·A1.
+        let b = h * A21;
+        for i in 0..n {
+            sp[i] = r0[i] + b * v0[i];
+            v2[i] = v0[i] + b * a1[i];
+        }
+        system.accelerations(t + C2 * h, sp, v2, a2);
+
+        // Stage 3: R3 = r + h·(a31·V1 + a32·V2), V3 = v + h·(a31·A1 + a32·A2).
+        let (b1, b2) = (h * A31, h * A32);
+        for i in 0..n {
+            sp[i] = r0[i] + (b1 * v0[i] + b2 * v2[i]);
+            v3[i] = v0[i] + (b1 * a1[i] + b2 * a2[i]);
+        }
+        system.accelerations(t + C3 * h, sp, v3, a3);
+
+        // Stage 4: R4 = r + h·(a41·V1 + a42·V2 + a43·V3), and V4 likewise from A1 … A3.
+        let (b1, b2, b3) = (h * A41, h * A42, h * A43);
+        for i in 0..n {
+            sp[i] = r0[i] + (b1 * v0[i] + b2 * v2[i] + b3 * v3[i]);
+            v4[i] = v0[i] + (b1 * a1[i] + b2 * a2[i] + b3 * a3[i]);
+        }
+        system.accelerations(t + C4 * h, sp, v4, a4);
+
+        // Stage 5: R5 = r + h·(a51·V1 + a52·V2 + a53·V3 + a54·V4), and V5 likewise.
+        let (b1, b2, b3, b4) = (h * A51, h * A52, h * A53, h * A54);
+        for i in 0..n {
+            sp[i] = r0[i] + (b1 * v0[i] + b2 * v2[i] + b3 * v3[i] + b4 * v4[i]);
+            v5[i] = v0[i] + (b1 * a1[i] + b2 * a2[i] + b3 * a3[i] + b4 * a4[i]);
+        }
+        system.accelerations(t + C5 * h, sp, v5, a5);
+
+        // Stage 6: R6 = r + h·(a61·V1 + … + a65·V5), and V6 likewise; c6 = 1.
+        let (b1, b2, b3, b4, b5) = (h * A61, h * A62, h * A63, h * A64, h * A65);
+        for i in 0..n {
+            sp[i] = r0[i] + (b1 * v0[i] + b2 * v2[i] + b3 * v3[i] + b4 * v4[i] + b5 * v5[i]);
+            v6[i] = v0[i] + (b1 * a1[i] + b2 * a2[i] + b3 * a3[i] + b4 * a4[i] + b5 * a5[i]);
+        }
+        system.accelerations(t + h, sp, v6, a6);
+
+        // The fifth-order result, with b_i = a7i (b2 = b7 = 0):
+        // R7 = r + h·(b1·V1 + b3·V3 + b4·V4 + b5·V5 + b6·V6), and V7 likewise.
+        let (b1, b3, b4, b5, b6) = (h * A71, h * A73, h * A74, h * A75, h * A76);
+        for i in 0..n {
+            r1[i] = r0[i] + (b1 * v0[i] + b3 * v3[i] + b4 * v4[i] + b5 * v5[i] + b6 * v6[i]);
+            v7[i] = v0[i] + (b1 * a1[i] + b3 * a3[i] + b4 * a4[i] + b5 * a5[i] + b6 * a6[i]);
+        }
+        // A7 = a(t + h, R7, V7): the error estimate needs it, and it is the next A1.
+        system.accelerations(t + h, r1, v7, a7);
+        evaluations += 6;
+
+        // y1 - ŷ1 = h·Σ E_i·k_i, position part from the V_i, velocity part from the A_i,
+        // each component divided by sc = atol + rtol·max(|y0|, |y1|).
+        let (e1, e3, e4, e5, e6, e7) = (h * E1, h * E3, h * E4, h * E5, h * E6, h * E7);
+        let (atol, rtol) = (DVec2::splat(tol.atol), DVec2::splat(tol.rtol));
+        let mut sum = DVec2::ZERO;
+        for i in 0..n {
+            let er = e1 * v0[i] + e3 * v3[i] + e4 * v4[i] + e5 * v5[i] + e6 * v6[i] + e7 * v7[i];
+            let ev = e1 * a1[i] + e3 * a3[i] + e4 * a4[i] + e5 * a5[i] + e6 * a6[i] + e7 * a7[i];
+            let sr = atol + rtol * r0[i].abs().max(r1[i].abs());
+            let sv = atol + rtol * v0[i].abs().max(v7[i].abs());
+            let (qr, qv) = (er / sr, ev / sv);
+            sum += qr * qr + qv * qv;
+        }
+        self.candidate_t = t + h;
+        let error = if n == 0 {
+            0.0
+        } else {
+            ((sum.x + sum.y) / (4 * n) as f64).sqrt()
+        };
+        (error, evaluations)
+    }
+
+    /// Writes the last candidate into `pos` and `vel`, taking `t_new` as its time (the
+    /// caller may name the exact output time that t + h rounds to), and keeps its last
+    /// stage as the next step's first.
+    pub fn accept(&mut self, t_new: f64, pos: &mut [DVec2], vel: &mut [DVec2]) {
+        debug_assert!(same_time(t_new, self.candidate_t));
+        pos.copy_from_slice(&self.new_pos);
+        vel.copy_from_slice(&self.v7);
+        // FSAL: A7 = a(t + h, R7, V7) is A1 of the next step. Swapping buffers moves it,
+        // and the state it belongs to, without copying.
+        std::mem::swap(&mut self.a1, &mut self.a7);
+        std::mem::swap(&mut self.a1_pos, &mut self.new_pos);
+        std::mem::swap(&mut self.a1_vel, &mut self.v7);
+        self.a1_t = t_new;
+        self.a1_valid = true;
+    }
+}
+
+/// The PI step-size controller of Hairer's DOPRI5.
+///
+/// From the error norm err of a step of size h it proposes
+///
+///   h_new = h · clamp(safety · err^(-α) · err_prev^β, 1/5, 10),
+///
+/// with α = 1/5 - 0.75·β, β = 0.04 and safety = 0.9, where err_prev is the error of the
+/// last accepted step (at least 10⁻⁴). The integral part err^(-α) aims the next error at
+/// the tolerance; the proportional part err_prev^β damps oscillations of the step size.
+/// A rejected step (err > 1) is retried with h·max(1/5, safety·err^(-α)), and the step
+/// after a rejection may not grow.
+#[derive(Clone, Debug)]
+pub struct StepController {
+    /// ln(err_prev), the logarithm of the last accepted error (at least 10⁻⁴).
+    ln_err_prev: f64,
+    rejected: bool,
+}
+
+impl Default for StepController {
+    fn default() -> Self {
+        StepController {
+            ln_err_prev: 1e-4f64.ln(),
+            rejected: false,
+        }
+    }
+}
+
+impl StepController {
+    /// The safety factor that keeps the next error below the tolerance.
+    pub const SAFETY: f64 = 0.9;
+    /// The smallest factor by which a step may shrink.
+    pub const MIN_FACTOR: f64 = 0.2;
+    /// The largest factor by which a step may grow.
+    pub const MAX_FACTOR: f64 = 10.0;
+    /// The weight β of the previous error (the proportional part).
+    pub const BETA: f64 = 0.04;
+    /// The exponent α of the current error (the integral part).
+    pub const ALPHA: f64 = 0.2 - 0.75 * Self::BETA;
+
+    /// Decides whether a step of size `h` with error norm `err` is accepted, and returns
+    /// that decision with the size of the next step. A non-finite error is a rejection
+    /// with the largest reduction.
+    ///
+    /// The powers are computed from logarithms, err^α·err_prev^(-β) =
+    /// exp(α·ln err - β·ln err_prev): one logarithm and one exponential per step instead
+    /// of two general powers, which cost as much as the rest of the step control.
+    pub fn decide(&mut self, err: f64, h: f64) -> (bool, f64) {
+        let ln_err = err.ln();
+        if err <= 1.0 {
+            // 1/factor = clamp(err^α · err_prev^(-β) / safety, 1/10, 5).
+            let inv = ((Self::ALPHA * ln_err - Self::BETA * self.ln_err_prev).exp() / Self::SAFETY)
+                .clamp(1.0 / Self::MAX_FACTOR, 1.0 / Self::MIN_FACTOR);
+            let mut h_new = h / inv;
+            if self.rejected {
+                h_new = h_new.min(h);
+            }
+            // err_prev = max(err, 10⁻⁴), kept as its logarithm.
+            self.ln_err_prev = ln_err.max(1e-4f64.ln());
+            self.rejected = false;
+            (true, h_new)
+        } else {
+            // h_new = h / min(5, err^α / safety); f64::min ignores a NaN error.
+            let fac11 = (Self::ALPHA * ln_err).exp();
+            self.rejected = true;
+            (
+                false,
+                h / (1.0 / Self::MIN_FACTOR).min(fac11 / Self::SAFETY),
+            )
+        }
+    }
+}

@@ -1,0 +1,466 @@
+//! Reference problems: systems whose motion has a closed form, to measure integrators
+//! against.
+//!
+//! Each problem is a [`System`] built through the public [`System::new`] API, an initial
+//! [`State`] at t = 0, a suggested final time, and the exact state at any time. The tests
+//! and the studies use them; nothing else in the crate depends on them.
+
+use std::f64::consts::PI;
+use std::fmt;
+use std::str::FromStr;
+
+use glam::DVec2;
+
+use crate::sim::{Anchor, ForceSpec, Selection, State, System};
+
+/// The reference problems, by the name the command line uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum ReferenceKind {
+    /// The article's constant acceleration of 5 (Equations 3 to 5), once along a line and
+    /// once in the plane.
+    ConstantAcceleration,
+    /// Linear drag alone (Equation 12).
+    Drag,
+    /// Linear drag with uniform gravity: a fall towards terminal velocity.
+    DragGravity,
+    /// The article's force growing in time, F = 2t.
+    TimeForce,
+    /// An undamped harmonic oscillator: a spring of rest length 0 to a fixed point.
+    Spring,
+    /// An underdamped harmonic oscillator moving along a line through its anchor.
+    DampedSpring,
+    /// A circular orbit under an inverse-square central force.
+    Orbit,
+}
+
+impl ReferenceKind {
+    /// Every reference problem, in the order tables list them.
+    pub const ALL: &'static [ReferenceKind] = &[
+        ReferenceKind::ConstantAcceleration,
+        ReferenceKind::Drag,
+        ReferenceKind::DragGravity,
+        ReferenceKind::TimeForce,
+        ReferenceKind::Spring,
+        ReferenceKind::DampedSpring,
+        ReferenceKind::Orbit,
+    ];
+
+    /// Returns the problem's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            ReferenceKind::ConstantAcceleration => "constant-acceleration",
+            ReferenceKind::Drag => "drag",
+            ReferenceKind::DragGravity => "drag-gravity",
+            ReferenceKind::TimeForce => "time-force",
+            ReferenceKind::Spring => "spring",
+            ReferenceKind::DampedSpring => "damped-spring",
+            ReferenceKind::Orbit => "orbit",
+        }
+    }
+
+    /// Returns the names of every problem, for error messages.
+    pub fn names() -> Vec<&'static str> {
+        Self::ALL.iter().map(|k| k.name()).collect()
+    }
+
+    /// Builds the problem.
+    pub fn problem(self) -> ReferenceProblem {
+        match self {
+            ReferenceKind::ConstantAcceleration => constant_acceleration(),
+            ReferenceKind::Drag => drag(),
+            ReferenceKind::DragGravity => drag_gravity(),
+            ReferenceKind::TimeForce => time_force(),
+            ReferenceKind::Spring => spring(),
+            ReferenceKind::DampedSpring => damped_spring(),
+            ReferenceKind::Orbit => orbit(),
+        }
+    }
+}
+
+impl fmt::Display for ReferenceKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for ReferenceKind {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Self::ALL
+            .iter()
+            .copied()
+            .find(|k| k.name() == s)
+            .ok_or_else(|| {
+                format!(
+                    "unknown reference problem `{s}`; expected one of: {}",
+                    Self::names().join(", ")
+                )
+            })
+    }
+}
+
+/// A system, its initial state, and the exact state at any later time.
+#[derive(Clone, Debug)]
+pub struct ReferenceProblem {
+    kind: ReferenceKind,
+    system: System,
+    initial: State,
+    t_end: f64,
+    solution: Solution,
+}
+
+impl ReferenceProblem {
+    /// Returns which problem this is.
+    pub fn kind(&self) -> ReferenceKind {
+        self.kind
+    }
+
+    /// Returns the problem's name.
+    pub fn name(&self) -> &'static str {
+        self.kind.name()
+    }
+
+    /// Returns the masses and forces.
+    pub fn system(&self) -> &System {
+        &self.system
+    }
+
+    /// Returns the state at t = 0.
+    pub fn initial(&self) -> &State {
+        &self.initial
+    }
+
+    /// Returns the final time the studies integrate to.
+    pub fn t_end(&self) -> f64 {
+        self.t_end
+    }
+
+    /// Returns the same problem with another final time.
+    pub fn with_t_end(mut self, t_end: f64) -> Self {
+        self.t_end = t_end;
+        self
+    }
+
+    /// Returns the exact state at time `t`.
+    pub fn exact(&self, t: f64) -> State {
+        let s0 = &self.initial;
+        let mut out = State {
+            t,
+            pos: Vec::with_capacity(s0.len()),
+            vel: Vec::with_capacity(s0.len()),
+        };
+        for (i, (&r0, &v0)) in s0.pos.iter().zip(&s0.vel).enumerate() {
+            let (r, v) = self.solution.body(i, t - s0.t, r0, v0);
+            out.pos.push(r);
+            out.vel.push(v);
+        }
+        out
+    }
+
+    /// Returns the error of `state`'s positions against the exact positions at
+    /// `state.t`: the largest, over the bodies, of the Euclidean distance |r - r_exact|.
+    /// Positions are what a frame shows, so the studies measure them.
+    pub fn position_error(&self, state: &State) -> f64 {
+        let exact = self.exact(state.t);
+        max_distance(&state.pos, &exact.pos)
+    }
+
+    /// Returns the largest, over the bodies, of |v - v_exact| at `state.t`.
+    pub fn velocity_error(&self, state: &State) -> f64 {
+        let exact = self.exact(state.t);
+        max_distance(&state.vel, &exact.vel)
+    }
+}
+
+/// Returns max_i |a_i - b_i|; a non-finite distance makes the result infinite.
+fn max_distance(a: &[DVec2], b: &[DVec2]) -> f64 {
+    a.iter().zip(b).fold(0.0, |worst: f64, (x, y)| {
+        let d = (*x - *y).length();
+        if d.is_finite() {
+            worst.max(d)
+        } else {
+            f64::INFINITY
+        }
+    })
+}
+
+/// The parameters of each closed form.
+#[derive(Clone, Debug)]
+enum Solution {
+    /// r = r0 + v0·t + a·t²/2, v = v0 + a·t, with one acceleration per body.
+    ConstantAcceleration { acc: Vec<DVec2> },
+    /// Linear drag with gravity, rate λ = k/m and terminal velocity v_T = g/λ = m·g/k:
+    /// v = v_T + (v0 - v_T)·e^(-λt), r = r0 + v_T·t + (v0 - v_T)·(1 - e^(-λt))/λ.
+    /// With g = 0 this is Equation 12's v = v0·e^(-kt/m), r = r0 + v0·(m/k)(1 - e^(-kt/m)).
+    Drag { rate: f64, g: DVec2 },
+    /// F = f1·t on a body of mass m: v = v0 + (f1/m)·t²/2, r = r0 + v0·t + (f1/m)·t³/6.
+    /// The article's F = 2t gives v = v0 + t²/m and r = r0 + v0·t + t³/(3m).
+    TimeForce { f1_over_m: DVec2 },
+    /// A linear oscillator about the centre c, x = r - c, with x'' + 2γx' + ω²x = 0 and
+    /// ω_d = √(ω² - γ²) (γ = 0 is the undamped spring):
+    /// x = e^(-γt)·(x0·cos ω_d t + (v0 + γ·x0)/ω_d · sin ω_d t),
+    /// v = e^(-γt)·(v0·cos ω_d t - (ω²·x0 + γ·v0)/ω_d · sin ω_d t).
+    Oscillator {
+        centre: DVec2,
+        omega: f64,
+        gamma: f64,
+    },
+    /// A circular orbit about c with angular rate Ω = √(μ/R³): the initial offset and
+    /// velocity turn by the angle Ω·t, r = c + Rot(Ωt)·(r0 - c), v = Rot(Ωt)·v0.
+    Circle { centre: DVec2, rate: f64 },
+}
+
+impl Solution {
+    /// Returns the exact position and velocity of body `i` a time `t` after (r0, v0).
+    fn body(&self, i: usize, t: f64, r0: DVec2, v0: DVec2) -> (DVec2, DVec2) {
+        match self {
+            Solution::ConstantAcceleration { acc } => {
+                let a = acc[i];
+                (r0 + v0 * t + 0.5 * a * t * t, v0 + a * t)
+            }
+            Solution::Drag { rate, g } => {
+                let terminal = *g / *rate;
+                let decay = (-rate * t).exp();
+                // 1 - e^(-λt), computed without cancellation for small λt.
+                let gone = -(-rate * t).exp_m1();
+                let v = terminal + (v0 - terminal) * decay;
+                let r = r0 + terminal * t + (v0 - terminal) * (gone / rate);
+                (r, v)
+            }
+            Solution::TimeForce { f1_over_m } => {
+                let r = r0 + v0 * t + *f1_over_m * (t * t * t / 6.0);
+                let v = v0 + *f1_over_m * (t * t / 2.0);
+                (r, v)
+            }
+            Solution::Oscillator {
+                centre,
+                omega,
+                gamma,
+            } => {
+                let x0 = r0 - *centre;
+                let wd = (omega * omega - gamma * gamma).sqrt();
+                let (s, c) = (wd * t).sin_cos();
+                let e = (-gamma * t).exp();
+                let x = e * (x0 * c + (v0 + *gamma * x0) * (s / wd));
+                let v = e * (v0 * c - (omega * omega * x0 + *gamma * v0) * (s / wd));
+                (*centre + x, v)
+            }
+            Solution::Circle { centre, rate } => {
+                let turn = DVec2::from_angle(rate * t);
+                (*centre + turn.rotate(r0 - *centre), turn.rotate(v0))
+            }
+        }
+    }
+}
+
+/// Builds one body-selection list.
+fn only(i: u32) -> Selection {
+    Selection::Bodies(vec![i])
+}
+
+/// The article's a = 5: body 0 moves along the x axis (Equations 3 to 5, r = 5/2·t² +
+/// v0·t + r0), body 1 in the plane with |a| = 5 at an angle to its initial velocity.
+fn constant_acceleration() -> ReferenceProblem {
+    let acc = vec![DVec2::new(5.0, 0.0), DVec2::new(3.0, -4.0)];
+    // Uniform gravity gives every selected body the same acceleration g whatever its mass.
+    let forces = [
+        ForceSpec::Gravity {
+            g: acc[0],
+            bodies: only(0),
+        },
+        ForceSpec::Gravity {
+            g: acc[1],
+            bodies: only(1),
+        },
+    ];
+    ReferenceProblem {
+        kind: ReferenceKind::ConstantAcceleration,
+        system: System::new(vec![1.0, 2.0], &forces),
+        initial: State {
+            t: 0.0,
+            pos: vec![DVec2::new(0.0, 0.0), DVec2::new(1.0, 2.0)],
+            vel: vec![DVec2::new(2.0, 0.0), DVec2::new(-1.0, 3.0)],
+        },
+        t_end: 2.0,
+        solution: Solution::ConstantAcceleration { acc },
+    }
+}
+
+/// Equation 12 with F = -k·v, k = 1 (the article's F = -v) and m = 2: two time
+/// constants m/k over the run.
+fn drag() -> ReferenceProblem {
+    let (m, k) = (2.0, 1.0);
+    ReferenceProblem {
+        kind: ReferenceKind::Drag,
+        system: System::new(
+            vec![m],
+            &[ForceSpec::Drag {
+                k,
+                bodies: Selection::All,
+            }],
+        ),
+        initial: State {
+            t: 0.0,
+            pos: vec![DVec2::new(0.0, 1.0)],
+            vel: vec![DVec2::new(3.0, -1.0)],
+        },
+        t_end: 4.0,
+        solution: Solution::Drag {
+            rate: k / m,
+            g: DVec2::ZERO,
+        },
+    }
+}
+
+/// A ball thrown up and sideways under gravity g = (0, -9.81) and linear drag k = 0.5 on
+/// m = 1.5: its velocity tends to the terminal velocity m·g/k = (0, -29.43).
+fn drag_gravity() -> ReferenceProblem {
+    let (m, k, g) = (1.5, 0.5, DVec2::new(0.0, -9.81));
+    ReferenceProblem {
+        kind: ReferenceKind::DragGravity,
+        system: System::new(
+            vec![m],
+            &[
+                ForceSpec::Gravity {
+                    g,
+                    bodies: Selection::All,
+                },
+                ForceSpec::Drag {
+                    k,
+                    bodies: Selection::All,
+                },
+            ],
+        ),
+        initial: State {
+            t: 0.0,
+            pos: vec![DVec2::ZERO],
+            vel: vec![DVec2::new(10.0, 10.0)],
+        },
+        t_end: 3.0,
+        solution: Solution::Drag { rate: k / m, g },
+    }
+}
+
+/// The article's F = 2t along x, on m = 2, with some initial velocity across it.
+fn time_force() -> ReferenceProblem {
+    let m = 2.0;
+    let f1 = DVec2::new(2.0, 0.0);
+    ReferenceProblem {
+        kind: ReferenceKind::TimeForce,
+        system: System::new(
+            vec![m],
+            &[ForceSpec::TimeVarying {
+                f0: DVec2::ZERO,
+                f1,
+                bodies: Selection::All,
+            }],
+        ),
+        initial: State {
+            t: 0.0,
+            pos: vec![DVec2::new(0.0, 0.0)],
+            vel: vec![DVec2::new(1.0, 0.5)],
+        },
+        t_end: 2.0,
+        solution: Solution::TimeForce { f1_over_m: f1 / m },
+    }
+}
+
+/// A spring of stiffness 4π² and rest length 0 from a fixed point to a unit mass: period
+/// 1, on an ellipse of semi-axes 1 and 1/2. The final time 1.25 is deliberately not a
+/// whole number of periods: at a whole period, the phase error alone is measured, and
+/// symplectic Euler (whose orbit is closed) looks second order there.
+fn spring() -> ReferenceProblem {
+    let m = 1.0;
+    let omega = 2.0 * PI;
+    let centre = DVec2::new(0.5, -0.25);
+    ReferenceProblem {
+        kind: ReferenceKind::Spring,
+        system: System::new(
+            vec![m],
+            &[ForceSpec::Spring {
+                a: 0,
+                b: Anchor::Point(centre),
+                stiffness: m * omega * omega,
+                rest_length: 0.0,
+                damping: 0.0,
+            }],
+        ),
+        initial: State {
+            t: 0.0,
+            pos: vec![centre + DVec2::new(1.0, 0.0)],
+            vel: vec![DVec2::new(0.0, 0.5 * omega)],
+        },
+        t_end: 1.25,
+        solution: Solution::Oscillator {
+            centre,
+            omega,
+            gamma: 0.0,
+        },
+    }
+}
+
+/// The spring above with damping 1 (γ = damping/(2m) = 1/2, well under ω = 2π). The
+/// spring damps only along its axis, so the body moves along a line through the anchor,
+/// where that is the isotropic damping F = -damping·v of the closed form; the line is
+/// horizontal, so the motion stays on it exactly.
+fn damped_spring() -> ReferenceProblem {
+    let m = 1.0;
+    let omega = 2.0 * PI;
+    let damping = 1.0;
+    let centre = DVec2::new(1.0, -0.5);
+    ReferenceProblem {
+        kind: ReferenceKind::DampedSpring,
+        system: System::new(
+            vec![m],
+            &[ForceSpec::Spring {
+                a: 0,
+                b: Anchor::Point(centre),
+                stiffness: m * omega * omega,
+                rest_length: 0.0,
+                damping,
+            }],
+        ),
+        initial: State {
+            t: 0.0,
+            pos: vec![centre + DVec2::new(1.0, 0.0)],
+            vel: vec![DVec2::new(-2.0, 0.0)],
+        },
+        t_end: 2.25,
+        solution: Solution::Oscillator {
+            centre,
+            omega,
+            gamma: damping / (2.0 * m),
+        },
+    }
+}
+
+/// A body of mass 3 on a circle of radius R = 1 about c under μ = 4π²: speed √(μ/R) = 2π
+/// and period 2π·√(R³/μ) = 1, run for one and a quarter periods (not a whole number, for
+/// the reason given at [`spring`]).
+fn orbit() -> ReferenceProblem {
+    let mu = 4.0 * PI * PI;
+    let radius = 1.0;
+    let centre = DVec2::new(0.5, 0.25);
+    ReferenceProblem {
+        kind: ReferenceKind::Orbit,
+        system: System::new(
+            vec![3.0],
+            &[ForceSpec::Central {
+                centre,
+                strength: mu,
+                bodies: Selection::All,
+            }],
+        ),
+        initial: State {
+            t: 0.0,
+            pos: vec![centre + DVec2::new(radius, 0.0)],
+            vel: vec![DVec2::new(0.0, (mu / radius).sqrt())],
+        },
+        t_end: 1.25,
+        solution: Solution::Circle {
+            centre,
+            rate: (mu / (radius * radius * radius)).sqrt(),
+        },
+    }
+}
