@@ -14,6 +14,7 @@ pub mod forces;
 pub mod integrators;
 pub mod scalar_ode;
 mod simulation;
+pub mod stability;
 mod system;
 
 pub use forces::{Anchor, ForceSpec, Selection};
