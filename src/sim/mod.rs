@@ -10,6 +10,7 @@
 //! buffers inside the integrators, and `System::inv_mass`. Cold data (names, colours,
 //! shapes) stays in the scene.
 
+pub mod exact;
 pub mod forces;
 pub mod integrators;
 pub mod scalar_ode;
