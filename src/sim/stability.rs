@@ -98,7 +98,7 @@ pub fn stable_step_hint(
     }
     if omega > 0.0 {
         match spring_limit(kind) {
-            Some(limit) if limit == 0.0 => {
+            Some(0.0) => {
                 return Some(format!(
                     "{kind} is never stable on an undamped spring (here ω = {omega}): its energy grows every step; use symplectic-euler or verlet with dt < 2/ω = {}, or rk4 with dt ≤ 2√2/ω = {}",
                     2.0 / omega,
