@@ -22,7 +22,7 @@ use crate::output::{self, Failure, Manifest, Timings};
 use crate::render::layers::TraceRecorder;
 use crate::render::{encode_png, ArrowScales, Compression, FrameView, Provenance, Renderer};
 use crate::scene::Scene;
-use crate::sim::{BlowUp, IntegratorKind, Simulation};
+use crate::sim::{BlowUp, IntegratorKind};
 
 /// What to render and how.
 #[derive(Clone, Debug)]
@@ -144,12 +144,7 @@ pub fn render_with(
     } else {
         Default::default()
     };
-    let mut sim = Simulation::new(
-        scene.system(),
-        scene.initial_state(),
-        integrator,
-        scene.simulation.dt,
-    );
+    let mut sim = scene.simulation_with(integrator);
     let mut force = vec![DVec2::ZERO; scene.bodies.len()];
     sim.net_forces(&mut force);
     let arrows = ArrowScales::fit(scene, &sim.state().vel, &force);

@@ -16,7 +16,6 @@ use crate::pipeline;
 use crate::render::layers::TraceRecorder;
 use crate::render::{encode_png, ArrowScales, Compression, FrameView, Renderer};
 use crate::scene::{parse, Scene};
-use crate::sim::Simulation;
 
 /// A figure built into the binary.
 #[derive(Clone, Copy, Debug)]
@@ -78,12 +77,7 @@ pub fn render_frame(scene: &Scene, frame: u64) -> Result<Pixmap> {
             frame_count - 1
         )));
     }
-    let mut sim = Simulation::new(
-        scene.system(),
-        scene.initial_state(),
-        scene.simulation.integrator,
-        scene.simulation.dt,
-    );
+    let mut sim = scene.simulation();
     let mut force = vec![DVec2::ZERO; scene.bodies.len()];
     sim.net_forces(&mut force);
     let renderer = Renderer::new(scene, ArrowScales::fit(scene, &sim.state().vel, &force));

@@ -18,16 +18,24 @@ pub fn write_trajectory(
     out: &mut impl Write,
 ) -> std::io::Result<Option<BlowUp>> {
     let names = scene.body_names();
-    let mut sim = Simulation::new(
-        scene.system(),
-        scene.initial_state(),
-        scene.simulation.integrator,
-        scene.simulation.dt,
-    );
+    let mut sim = scene.simulation();
     writeln!(out, "t,body,x,y,vx,vy")?;
     write_rows(&sim, &names, out)?;
     let frames = scene.render.frame_count;
     if every_step {
+        // Every step up to the last frame; an adaptive method's steps vary, and its last
+        // one is shortened to land on the last frame's time.
+        let t_end = scene.frame_time(frames - 1);
+        if sim.integrator().is_adaptive() {
+            while sim.state().t < t_end {
+                let step = sim.step_towards(t_end);
+                if let Err(b) = step {
+                    return Ok(Some(b));
+                }
+                write_rows(&sim, &names, out)?;
+            }
+            return Ok(None);
+        }
         for _ in 0..scene.total_steps() {
             if let Err(b) = sim.step() {
                 return Ok(Some(b));

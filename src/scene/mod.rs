@@ -26,7 +26,7 @@ pub use frontend::hash_with_overrides;
 pub use layers::Layers;
 pub use validate::{parse, MAX_FRAMES, MAX_IMAGE_SIDE};
 
-use crate::sim::{ForceSpec, IntegratorKind, State, System};
+use crate::sim::{ForceSpec, IntegratorKind, Simulation, State, System, Tolerances};
 
 /// A validated scene, ready to simulate and render.
 #[derive(Clone, Debug, PartialEq)]
@@ -68,6 +68,18 @@ pub struct SimulationSettings {
     pub dt: f64,
     /// The simulated time asked for.
     pub duration: f64,
+    /// The error tolerances of the adaptive `dopri5` (`rtol`, `atol`); unused by the
+    /// fixed-step methods.
+    pub tolerances: Tolerances,
+    /// Other runs of the same scene to draw beside the main one, as ghosts.
+    pub compare: Vec<CompareRun>,
+}
+
+/// One entry of `compare`: another integrator, or the closed-form solution.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CompareRun {
+    Integrator(IntegratorKind),
+    Exact,
 }
 
 /// The `[render]` table, checked, with the frame timing derived from it.
@@ -215,6 +227,23 @@ impl Scene {
     /// Returns the masses and forces, for the simulation.
     pub fn system(&self) -> System {
         System::new(self.bodies.iter().map(|b| b.mass).collect(), &self.forces)
+    }
+
+    /// Returns a simulation of this scene from t = 0 with its integrator, step and
+    /// tolerances.
+    pub fn simulation(&self) -> Simulation {
+        self.simulation_with(self.simulation.integrator)
+    }
+
+    /// Returns a simulation of this scene from t = 0 with another integrator.
+    pub fn simulation_with(&self, integrator: IntegratorKind) -> Simulation {
+        Simulation::new(
+            self.system(),
+            self.initial_state(),
+            integrator,
+            self.simulation.dt,
+        )
+        .with_tolerances(self.simulation.tolerances)
     }
 
     /// Returns the state at t = 0.

@@ -74,6 +74,9 @@ pub struct RawSimulation {
     pub integrator: Option<Spanned<String>>,
     pub dt: Option<Spanned<f64>>,
     pub duration: Option<Spanned<f64>>,
+    pub rtol: Option<Spanned<f64>>,
+    pub atol: Option<Spanned<f64>>,
+    pub compare: Option<Spanned<Vec<Spanned<String>>>>,
 }
 
 /// The `[render]` table.

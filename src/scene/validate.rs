@@ -10,10 +10,10 @@ use toml::Spanned;
 
 use super::raw::{RawBody, RawForce, RawRender, RawScene, RawShape, RawSimulation, RawVec2};
 use super::{
-    Body, Diagnostic, PointMass, RenderSettings, Rgba, Scene, SceneError, Shape,
+    Body, CompareRun, Diagnostic, PointMass, RenderSettings, Rgba, Scene, SceneError, Shape,
     SimulationSettings, Source, View,
 };
-use crate::sim::{Anchor, ForceSpec, IntegratorKind, Selection};
+use crate::sim::{Anchor, ForceSpec, IntegratorKind, Selection, Tolerances};
 
 /// The largest image side accepted, in pixels.
 pub const MAX_IMAGE_SIDE: i64 = 16384;
@@ -119,6 +119,9 @@ impl Validator {
         if let (Some(bodies), Some(render)) = (&bodies, &render) {
             self.shapes_fit_the_rasteriser(&raw.body, bodies, render);
         }
+        if let (Some(sim), Some(bodies), Some(forces)) = (&simulation, &bodies, &forces) {
+            self.exact_exists(raw.simulation.as_ref(), sim, bodies, forces);
+        }
         let hash = hex(&Sha256::digest(text.as_bytes()));
         Some(Scene {
             name: name?,
@@ -201,6 +204,8 @@ impl Validator {
                 integrator: IntegratorKind::Euler,
                 dt: 1.0 / (10.0 * fps),
                 duration: 5.0,
+                tolerances: Tolerances::default(),
+                compare: Vec::new(),
             });
         };
         let s = raw.get_ref();
@@ -229,11 +234,95 @@ impl Validator {
         if let (Some(dt), Some(fps), Some(span)) = (dt, fps, s.dt.as_ref().map(|d| d.span())) {
             self.whole_steps_per_frame(dt, fps, span)?;
         }
+        let defaults = Tolerances::default();
+        let rtol = s
+            .rtol
+            .as_ref()
+            .map_or(Some(defaults.rtol), |r| self.positive(r, "rtol"));
+        let atol = s
+            .atol
+            .as_ref()
+            .map_or(Some(defaults.atol), |a| self.positive(a, "atol"));
+        let compare = match &s.compare {
+            None => Some(Vec::new()),
+            Some(list) => self.compare(list),
+        };
         Some(SimulationSettings {
             integrator: integrator?,
             dt: dt?,
             duration: duration?,
+            tolerances: Tolerances {
+                rtol: rtol?,
+                atol: atol?,
+            },
+            compare: compare?,
         })
+    }
+
+    /// Rejects `compare = [..., "exact"]` when the scene has no closed form.
+    fn exact_exists(
+        &mut self,
+        raw: Option<&Spanned<RawSimulation>>,
+        sim: &SimulationSettings,
+        bodies: &[Body],
+        forces: &[ForceSpec],
+    ) {
+        if !sim.compare.contains(&CompareRun::Exact) {
+            return;
+        }
+        let masses: Vec<f64> = bodies.iter().map(|b| b.mass).collect();
+        let initial = crate::sim::State {
+            t: 0.0,
+            pos: bodies.iter().map(|b| b.position).collect(),
+            vel: bodies.iter().map(|b| b.velocity).collect(),
+        };
+        if crate::sim::exact::ExactSolution::new(&masses, forces, &initial).is_some() {
+            return;
+        }
+        let span = raw
+            .and_then(|r| r.get_ref().compare.as_ref())
+            .and_then(|c| c.get_ref().iter().find(|n| n.get_ref() == "exact"))
+            .map(|n| n.span());
+        let message = "this scene has no closed-form solution to compare with";
+        let d = match span {
+            Some(span) => Diagnostic::at(span, message),
+            None => Diagnostic::whole_file(message),
+        };
+        self.error(d.hint(
+            "the exact path exists when every force is gravity, linear drag, a time-varying force, or an undamped zero-length spring to a fixed point; remove \"exact\" or compare integrators only",
+        ));
+    }
+
+    /// Checks `compare`: integrator names or "exact", each at most once.
+    fn compare(&mut self, list: &Spanned<Vec<Spanned<String>>>) -> Option<Vec<CompareRun>> {
+        let mut runs = Vec::new();
+        let mut ok = true;
+        for name in list.get_ref() {
+            let run = if name.get_ref() == "exact" {
+                CompareRun::Exact
+            } else {
+                match name.get_ref().parse::<IntegratorKind>() {
+                    Ok(kind) => CompareRun::Integrator(kind),
+                    Err(message) => {
+                        self.error(
+                            Diagnostic::at(name.span(), message)
+                                .hint("`compare` takes integrator names and \"exact\""),
+                        );
+                        ok = false;
+                        continue;
+                    }
+                }
+            };
+            if runs.contains(&run) {
+                self.error(Diagnostic::at(
+                    name.span(),
+                    format!("`{}` is listed twice", name.get_ref()),
+                ));
+                ok = false;
+            }
+            runs.push(run);
+        }
+        ok.then_some(runs)
     }
 
     /// Checks that 1/fps is a whole number of steps; returns that number.

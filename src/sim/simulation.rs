@@ -212,6 +212,15 @@ impl Simulation {
         self.check_finite()
     }
 
+    /// Takes one step that ends at or before `t_limit`: an adaptive method shortens its
+    /// step to land on `t_limit`; a fixed-step method takes its usual step.
+    pub fn step_towards(&mut self, t_limit: f64) -> Result<(), BlowUp> {
+        if self.adaptive.is_some() {
+            return self.adaptive_step(t_limit);
+        }
+        self.step()
+    }
+
     /// Takes `n` steps, stopping at the first that blows up.
     pub fn run_steps(&mut self, n: u64) -> Result<(), BlowUp> {
         for _ in 0..n {
