@@ -8,6 +8,7 @@
 
 pub mod checkpoint;
 pub mod cli;
+pub mod compare;
 pub mod diff;
 pub mod error;
 pub mod figures;

@@ -227,3 +227,42 @@ fn springs_between_bodies_keep_total_momentum_to_round_off() {
     // The spring did work: the bodies' velocities changed, so this is not vacuous.
     assert!((sim.state().vel[0] - scene.bodies[0].velocity).length() > 0.1);
 }
+
+#[test]
+fn a_comparison_measures_each_integrator_against_the_exact_path() {
+    let text = drag_scene(1.0, 1.0, 0.01, 25.0).replace(
+        "duration = 5.0",
+        "duration = 5.0\ncompare = [\"euler\", \"rk4\", \"exact\"]",
+    );
+    let scene = scene(&text);
+    let mut comparison = physframes::compare::Comparison::new(&scene).expect("compare is set");
+    let mut last = None;
+    for k in 0..scene.render.frame_count {
+        last = Some(comparison.advance_to(scene.frame_time(k)));
+    }
+    let frame = last.expect("frames");
+    assert_eq!(frame.reference, "exact");
+    assert_eq!(frame.error_labels, vec!["euler", "rk4"]);
+    let (t, errors) = frame.errors.last().expect("a row per frame").clone();
+    assert_eq!(frame.errors.len() as u64, scene.render.frame_count);
+    // The puck's exact x at t: v0·m/k·(1 - e^(-kt/m)) with v0 = 3; Euler's is
+    // Σ h·v0·(1 - h)^i = v0·(1 - (1 - h)^n), so its error is known in closed form.
+    let n = (t / 0.01).round() as i32;
+    let v0 = DVec2::new(3.0, -1.0);
+    let exact = v0 * (1.0 - (-t).exp());
+    let euler = v0 * (1.0 - (1.0f64 - 0.01).powi(n));
+    let expected = (euler - exact).length();
+    assert_close(
+        errors[0],
+        expected,
+        1e-9,
+        "Euler's error against the exact path",
+    );
+    // RK4 is far closer to the exact path than Euler at the same step.
+    assert!(
+        errors[1] < 1e-6 * errors[0],
+        "rk4 {} vs euler {}",
+        errors[1],
+        errors[0]
+    );
+}
