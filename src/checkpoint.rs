@@ -34,7 +34,8 @@ use crate::sim::{IntegratorKind, Simulation, State};
 /// The integration methods whose whole state between steps is t, the positions and the
 /// velocities, so that a checkpoint restores them exactly. A method is added here only
 /// after `restoring_is_bit_exact_for_every_supported_method` covers it.
-const METHODS_WITHOUT_STEP_STATE: &[&str] = &["euler", "symplectic-euler", "midpoint", "heun", "rk4"];
+const METHODS_WITHOUT_STEP_STATE: &[&str] =
+    &["euler", "symplectic-euler", "midpoint", "heun", "rk4"];
 
 /// The first line of every checkpoint file.
 const MAGIC: &str = "physframes checkpoint 1\n";
