@@ -11,6 +11,7 @@ mod export;
 mod figure;
 mod new_scene;
 mod render;
+mod study;
 
 use std::ops::Range;
 use std::path::PathBuf;
@@ -77,6 +78,9 @@ enum Command {
     /// Compare two PNGs or two folders of frames; exit 0 when within tolerance, 1 when
     /// different, 2 when they cannot be compared.
     Diff(diff::DiffArgs),
+    /// Study the integrators on problems with closed forms: convergence,
+    /// work-precision, stability and energy, as tables, CSV and PNG.
+    Study(study::StudyArgs),
 }
 
 /// Flags shared by the commands that load a scene.
@@ -193,6 +197,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Completions(args) => completions::run(args),
         Command::Figure(args) => figure::run(args),
         Command::Diff(args) => diff::run(args),
+        Command::Study(args) => study::run(args, verbosity),
     }
 }
 

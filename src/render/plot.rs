@@ -275,6 +275,10 @@ pub enum MarkerShape {
     Circle,
     /// An axis-aligned square.
     Square,
+    /// A square standing on one corner.
+    Diamond,
+    /// A triangle pointing up.
+    Triangle,
 }
 
 /// How point markers are drawn.
@@ -336,6 +340,8 @@ pub enum LegendSample {
     Marker(MarkerStyle),
     /// A filled square, for areas and heatmaps.
     Patch(Color),
+    /// A short stretch of line with one marker in its middle, for series drawn as both.
+    LineMarker(LineStyle, MarkerStyle),
 }
 
 /// One row of the legend.
@@ -360,6 +366,14 @@ impl LegendEntry {
     pub fn marker(style: MarkerStyle, label: impl Into<String>) -> Self {
         Self {
             sample: LegendSample::Marker(style),
+            label: label.into(),
+        }
+    }
+
+    /// A row with a line sample that carries a marker in its middle.
+    pub fn line_marker(line: LineStyle, marker: MarkerStyle, label: impl Into<String>) -> Self {
+        Self {
+            sample: LegendSample::LineMarker(line, marker),
             label: label.into(),
         }
     }
@@ -1487,6 +1501,10 @@ fn draw_sample(pixmap: &mut Pixmap, sample: &LegendSample, left: f32, right: f32
                 fill_marker_path(pixmap, &path, style, None);
             }
         }
+        LegendSample::LineMarker(line, marker) => {
+            draw_sample(pixmap, &LegendSample::Line(*line), left, right, mid);
+            draw_sample(pixmap, &LegendSample::Marker(*marker), left, right, mid);
+        }
         LegendSample::Patch(color) => {
             let side = 0.7 * (right - left) / 2.0;
             let centre = 0.5 * (left + right);
@@ -1510,6 +1528,25 @@ fn push_marker(builder: &mut PathBuilder, shape: MarkerShape, x: f32, y: f32, si
             if let Some(rect) = Rect::from_ltrb(x - r, y - r, x + r, y + r) {
                 builder.push_rect(rect);
             }
+        }
+        MarkerShape::Diamond => {
+            // A square of the same area turned by 45°: its half-diagonal is r·√2.
+            let d = r * std::f32::consts::SQRT_2;
+            builder.move_to(x, y - d);
+            builder.line_to(x + d, y);
+            builder.line_to(x, y + d);
+            builder.line_to(x - d, y);
+            builder.close();
+        }
+        MarkerShape::Triangle => {
+            // An equilateral triangle centred on its centroid, with its circumradius
+            // 1.2·r so that it looks as large as a disc of radius r.
+            let c = 1.2 * r;
+            let (half_base, below) = (c * 0.866_025_4, 0.5 * c);
+            builder.move_to(x, y - c);
+            builder.line_to(x + half_base, y + below);
+            builder.line_to(x - half_base, y + below);
+            builder.close();
         }
     }
 }

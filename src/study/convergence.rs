@@ -2,10 +2,14 @@
 //! closed form, and estimate the order of each integrator.
 
 use std::fmt;
+use std::io::{self, Write};
 
 use crate::sim::{IntegratorKind, Stepper};
 
 use super::reference::ReferenceProblem;
+
+/// The header of the CSV that [`write_csv`] writes.
+pub const CSV_HEADER: &str = "integrator,nominal_order,steps,h,error,observed_order";
 
 /// How a convergence study chooses its steps.
 #[derive(Clone, Debug, PartialEq)]
@@ -141,6 +145,23 @@ fn run_fixed(problem: &ReferenceProblem, kind: IntegratorKind, steps: u64) -> (f
     }
     state.t = problem.t_end();
     (h, problem.position_error(&state))
+}
+
+/// Writes the table as CSV with the header [`CSV_HEADER`], one row per run, in full
+/// precision; the observed order is empty where none was estimated.
+pub fn write_csv<W: Write>(table: &ConvergenceTable, mut out: W) -> io::Result<()> {
+    writeln!(out, "{CSV_HEADER}")?;
+    for s in &table.series {
+        for r in &s.rows {
+            let order = r.observed_order.map_or_else(String::new, |p| p.to_string());
+            writeln!(
+                out,
+                "{},{},{},{:e},{:e},{}",
+                s.integrator, s.nominal_order, r.steps, r.h, r.error, order
+            )?;
+        }
+    }
+    out.flush()
 }
 
 impl fmt::Display for ConvergenceTable {

@@ -166,6 +166,17 @@ impl ReferenceProblem {
         max_distance(&state.pos, &exact.pos)
     }
 
+    /// Returns the angular frequency ω of an undamped oscillator (the `spring`
+    /// problem), whose stepped energy has closed forms; `None` for any other problem.
+    pub fn angular_frequency(&self) -> Option<f64> {
+        match self.solution {
+            Solution::Oscillator {
+                omega, gamma: 0.0, ..
+            } => Some(omega),
+            _ => None,
+        }
+    }
+
     /// Returns the largest, over the bodies, of |v - v_exact| at `state.t`.
     pub fn velocity_error(&self, state: &State) -> f64 {
         let exact = self.exact(state.t);

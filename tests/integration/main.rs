@@ -12,4 +12,5 @@ mod properties;
 mod render_cli;
 mod resume;
 mod shards;
+mod studies;
 mod util;
