@@ -10,6 +10,7 @@
 mod color;
 mod diagnostic;
 pub mod raw;
+pub mod swarm;
 mod validate;
 
 use std::path::{Path, PathBuf};
@@ -18,7 +19,7 @@ use glam::DVec2;
 
 pub use color::Rgba;
 pub use diagnostic::{Diagnostic, SceneError};
-pub use validate::{parse, MAX_FRAMES, MAX_IMAGE_SIDE};
+pub use validate::{parse, MAX_BODIES, MAX_FRAMES, MAX_IMAGE_SIDE};
 
 use crate::sim::{ForceSpec, IntegratorKind, State, System};
 
