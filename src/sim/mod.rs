@@ -13,7 +13,7 @@
 pub mod forces;
 pub mod integrators;
 mod simulation;
-mod system;
+pub mod system;
 
 pub use forces::{Anchor, ForceSpec, Selection};
 pub use integrators::{Integrator, IntegratorKind, Stepper};
