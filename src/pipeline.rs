@@ -18,7 +18,9 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::error::{Error, Result};
 use crate::output::{self, Failure, Manifest, Timings};
-use crate::render::{encode_png, ArrowScales, Compression, FrameView, Provenance, Renderer};
+use tiny_skia::Pixmap;
+
+use crate::render::{encode_png_into, ArrowScales, Compression, FrameView, Provenance, Renderer};
 use crate::scene::Scene;
 use crate::sim::{BlowUp, IntegratorKind, Simulation};
 
@@ -48,6 +50,7 @@ struct Job {
     index: u64,
     t: f64,
     pos: Arc<[DVec2]>,
+    /// Velocities, when some body shows its velocity arrow; empty otherwise.
     vel: Vec<DVec2>,
     force: Option<Vec<DVec2>>,
     /// Positions at frames 0 ..= index, when trails are on.
@@ -117,7 +120,10 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderReport> {
     sim.net_forces(&mut force);
     let arrows = ArrowScales::fit(scene, &sim.state().vel, &force);
     let renderer = Renderer::new(scene, arrows);
+    // Only what the frames show is copied out of the simulation for them.
     let needs_forces = renderer.needs_forces();
+    let needs_velocities = renderer.needs_velocities();
+    let opaque = renderer.frames_are_opaque();
     let trails = scene.render.trails;
 
     let threads = match options.threads {
@@ -139,11 +145,27 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderReport> {
             let (renderer, clock, stop, first_error, written, progress) =
                 (&renderer, &clock, &stop, &first_error, &written, &progress);
             scope.spawn(move || {
+                // Each worker draws every frame into one pixmap and encodes into one
+                // buffer, so no frame allocates an image.
+                let mut buffers = Buffers {
+                    pixmap: renderer.new_frame(),
+                    png: Vec::new(),
+                    opaque,
+                };
                 for job in receiver {
                     if stop.load(Ordering::Relaxed) {
                         continue;
                     }
-                    match draw_and_write(scene, integrator, renderer, &job, dir, options, clock) {
+                    match draw_and_write(
+                        scene,
+                        integrator,
+                        renderer,
+                        &job,
+                        dir,
+                        options,
+                        clock,
+                        &mut buffers,
+                    ) {
                         Ok(()) => {
                             written.fetch_add(1, Ordering::Relaxed);
                             progress.inc(1);
@@ -189,7 +211,11 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderReport> {
                 index: k,
                 t: state.t,
                 pos,
-                vel: state.vel.clone(),
+                vel: if needs_velocities {
+                    state.vel.clone()
+                } else {
+                    Vec::new()
+                },
                 force,
                 trail: trails.then(|| history.clone()),
             };
@@ -277,7 +303,16 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderReport> {
     })
 }
 
+/// What a worker reuses from frame to frame.
+struct Buffers {
+    pixmap: Pixmap,
+    png: Vec<u8>,
+    /// Whether every frame is opaque, so the encoder need not check.
+    opaque: bool,
+}
+
 /// Draws, encodes and writes one frame, adding each stage's time to the clock.
+#[allow(clippy::too_many_arguments)]
 fn draw_and_write(
     scene: &Scene,
     integrator: IntegratorKind,
@@ -286,6 +321,7 @@ fn draw_and_write(
     dir: &std::path::Path,
     options: &RenderOptions,
     clock: &StageClock,
+    buffers: &mut Buffers,
 ) -> Result<()> {
     let started = Instant::now();
     let view = FrameView {
@@ -296,16 +332,18 @@ fn draw_and_write(
         force: job.force.as_deref(),
         trail: job.trail.as_deref(),
     };
-    let pixmap = renderer.draw(&view);
+    renderer.draw_into(&view, &mut buffers.pixmap);
     let drawn = StageClock::add(&clock.draw, started);
-    let png = encode_png(
-        &pixmap,
+    encode_png_into(
+        &mut buffers.png,
+        &buffers.pixmap,
         &provenance(scene, integrator, job.t, job.index),
         options.compression,
+        buffers.opaque,
     )
     .map_err(|e| Error::Runtime(format!("cannot encode frame {}: {e}", job.index)))?;
     let encoded = StageClock::add(&clock.encode, drawn);
-    output::write_atomic(&dir.join(output::frame_file_name(job.index)), &png)?;
+    output::write_atomic(&dir.join(output::frame_file_name(job.index)), &buffers.png)?;
     StageClock::add(&clock.write, encoded);
     Ok(())
 }

@@ -4,7 +4,8 @@ use std::sync::Arc;
 
 use glam::DVec2;
 use tiny_skia::{
-    Color, FillRule, LineCap, LineJoin, Paint, Path, PathBuilder, Pixmap, Stroke, Transform,
+    Color, FillRule, LineCap, LineJoin, Paint, Path, PathBuilder, PathSegment, Pixmap, Stroke,
+    Transform,
 };
 
 use super::camera::Camera;
@@ -110,10 +111,58 @@ impl BodyLook {
         }
     }
 
+    /// Returns a radius in pixels, around the centre of mass, that encloses the shape.
+    pub fn reach(&self) -> f32 {
+        self.reach
+    }
+
+    /// Returns true when the look is an outline alone (a circle, box or polygon),
+    /// which can be pre-rendered as a sprite; bodies of point masses also draw the
+    /// centre-of-mass marker and are drawn as paths.
+    pub fn is_outline(&self) -> bool {
+        self.outline.is_some() && self.points.is_none()
+    }
+
+    /// Returns the look with its outline's points rounded to multiples of `step`
+    /// pixels (a power of two). Translating such points by a multiple of `step` is
+    /// exact in f32 anywhere in an image of up to 2^15 pixels when `step` ≥ 2^-8, so the
+    /// look rasterises the same, sample for sample, at every whole pixel: what sprites
+    /// need. Rounding by at most step/2 is far below what anti-aliasing resolves.
+    pub fn on_grid(&self, step: f32) -> BodyLook {
+        let snap = |v: f32| (v / step).round() * step;
+        let outline = self.outline.as_ref().and_then(|path| {
+            let mut pb = PathBuilder::new();
+            for segment in path.segments() {
+                match segment {
+                    PathSegment::MoveTo(p) => pb.move_to(snap(p.x), snap(p.y)),
+                    PathSegment::LineTo(p) => pb.line_to(snap(p.x), snap(p.y)),
+                    PathSegment::QuadTo(p, q) => {
+                        pb.quad_to(snap(p.x), snap(p.y), snap(q.x), snap(q.y))
+                    }
+                    PathSegment::CubicTo(p, q, r) => pb.cubic_to(
+                        snap(p.x),
+                        snap(p.y),
+                        snap(q.x),
+                        snap(q.y),
+                        snap(r.x),
+                        snap(r.y),
+                    ),
+                    PathSegment::Close => pb.close(),
+                }
+            }
+            pb.finish()
+        });
+        BodyLook {
+            outline,
+            ..self.clone()
+        }
+    }
+
     /// Returns true when nothing drawn for a body at pixel (x, y) can touch the image.
     pub fn is_outside(&self, x: f32, y: f32, width: u32, height: u32) -> bool {
         let r = self.reach + 2.0;
-        x + r < 0.0 || y + r < 0.0 || x - r > width as f32 || y - r > height as f32
+        // Written so that a position that is not a number counts as outside.
+        !(x + r >= 0.0 && y + r >= 0.0 && x - r <= width as f32 && y - r <= height as f32)
     }
 
     /// Draws the body with its centre of mass at pixel (x, y).

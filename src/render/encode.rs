@@ -55,8 +55,25 @@ pub fn encode_png(
     provenance: &Provenance,
     compression: Compression,
 ) -> Result<Vec<u8>, png::EncodingError> {
+    let mut out = Vec::new();
+    encode_png_into(&mut out, pixmap, provenance, compression, false)?;
+    Ok(out)
+}
+
+/// Encodes like [`encode_png`] into `out`, which is cleared first and keeps its
+/// allocation, so that a worker encoding frame after frame allocates no output buffer.
+/// `known_opaque` promises that every pixel is opaque (as when the frame was drawn over
+/// an opaque static layer), which saves checking.
+pub fn encode_png_into(
+    out: &mut Vec<u8>,
+    pixmap: &Pixmap,
+    provenance: &Provenance,
+    compression: Compression,
+    known_opaque: bool,
+) -> Result<(), png::EncodingError> {
     let data = pixmap.data();
-    let opaque = data.chunks_exact(4).all(|p| p[3] == 255);
+    let opaque = known_opaque || data.chunks_exact(4).all(|p| p[3] == 255);
+    debug_assert!(!known_opaque || data.chunks_exact(4).all(|p| p[3] == 255));
     let straight;
     let pixels: &[u8] = if opaque {
         data
@@ -71,22 +88,21 @@ pub fn encode_png(
             .collect::<Vec<u8>>();
         &straight
     };
-    let mut out = Vec::with_capacity(data.len() / 8 + 1024);
-    {
-        let mut encoder = png::Encoder::new(&mut out, pixmap.width(), pixmap.height());
-        encoder.set_color(png::ColorType::Rgba);
-        encoder.set_depth(png::BitDepth::Eight);
-        encoder.set_compression(match compression {
-            Compression::Fastest => png::Compression::Fastest,
-            Compression::Fast => png::Compression::Fast,
-            Compression::Best => png::Compression::High,
-        });
-        for (key, value) in &provenance.entries {
-            encoder.add_itxt_chunk(key.clone(), value.clone())?;
-        }
-        let mut writer = encoder.write_header()?;
-        writer.write_image_data(pixels)?;
-        writer.finish()?;
+    out.clear();
+    out.reserve(data.len() / 8 + 1024);
+    let mut encoder = png::Encoder::new(&mut *out, pixmap.width(), pixmap.height());
+    encoder.set_color(png::ColorType::Rgba);
+    encoder.set_depth(png::BitDepth::Eight);
+    encoder.set_compression(match compression {
+        Compression::Fastest => png::Compression::Fastest,
+        Compression::Fast => png::Compression::Fast,
+        Compression::Best => png::Compression::High,
+    });
+    for (key, value) in &provenance.entries {
+        encoder.add_itxt_chunk(key.clone(), value.clone())?;
     }
-    Ok(out)
+    let mut writer = encoder.write_header()?;
+    writer.write_image_data(pixels)?;
+    writer.finish()?;
+    Ok(())
 }
