@@ -93,6 +93,16 @@ pub fn provenance(scene: &Scene, integrator: IntegratorKind, t: f64, frame: u64)
 /// On a numerical blow-up the frames already written stay valid, the manifest records
 /// the failure, and the error is [`Error::BlowUp`].
 pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderReport> {
+    render_with(scene, options, |_| {})
+}
+
+/// Like [`render`], letting `prepare` draw static layers (axes, fields, labels) into the
+/// renderer once, before the first frame: every frame starts from a copy of them.
+pub fn render_with(
+    scene: &Scene,
+    options: &RenderOptions,
+    prepare: impl FnOnce(&mut Renderer),
+) -> Result<RenderReport> {
     let wall = Instant::now();
     let frame_count = scene.render.frame_count;
     let range = options.frames.clone().unwrap_or(0..frame_count);
@@ -119,7 +129,8 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderReport> {
     let mut force = vec![DVec2::ZERO; scene.bodies.len()];
     sim.net_forces(&mut force);
     let arrows = ArrowScales::fit(scene, &sim.state().vel, &force);
-    let renderer = Renderer::new(scene, arrows);
+    let mut renderer = Renderer::new(scene, arrows);
+    prepare(&mut renderer);
     // Only what the frames show is copied out of the simulation for them.
     let needs_forces = renderer.needs_forces();
     let needs_velocities = renderer.needs_velocities();

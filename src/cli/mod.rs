@@ -3,6 +3,7 @@
 //! Raw flags are turned into checked options here; the library does the work. Every
 //! error is printed once, with its cause, and mapped to a documented exit code.
 
+mod bench;
 mod check;
 mod export;
 mod render;
@@ -33,6 +34,8 @@ enum Command {
     Check(check::CheckArgs),
     /// Simulate a scene and write its trajectory as CSV, drawing nothing.
     Export(export::ExportArgs),
+    /// Measure frames per second (or simulation speed) on this machine.
+    Bench(bench::BenchArgs),
 }
 
 /// Flags shared by the commands that load a scene.
@@ -138,6 +141,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Render(args) => render::run(args),
         Command::Check(args) => check::run(args),
         Command::Export(args) => export::run(args),
+        Command::Bench(args) => bench::run(args),
     }
 }
 
