@@ -165,24 +165,58 @@ impl BodyLook {
         !(x + r >= 0.0 && y + r >= 0.0 && x - r <= width as f32 && y - r <= height as f32)
     }
 
+    /// Returns the colours of an outline body: its fill, then its edge.
+    pub fn colors(&self) -> (Color, Color) {
+        (self.fill, self.edge)
+    }
+
     /// Draws the body with its centre of mass at pixel (x, y).
     pub fn draw(&self, pixmap: &mut Pixmap, x: f32, y: f32) {
+        if self.outline.is_some() {
+            self.draw_outline(pixmap, x, y, Some(self.fill), Some(self.edge));
+        }
+        self.draw_points(pixmap, x, y);
+    }
+
+    /// Draws an outline body's fill, then its edge, each in the colour given (or not
+    /// at all for `None`), with its centre of mass at pixel (x, y).
+    pub fn draw_outline(
+        &self,
+        pixmap: &mut Pixmap,
+        x: f32,
+        y: f32,
+        fill: Option<Color>,
+        edge: Option<Color>,
+    ) {
         let at = Transform::from_translate(x, y);
         let mut paint = Paint {
             anti_alias: true,
             ..Paint::default()
         };
         if let Some(outline) = &self.outline {
-            paint.set_color(self.fill);
-            pixmap.fill_path(outline, &paint, FillRule::Winding, at, None);
-            paint.set_color(self.edge);
-            let stroke = Stroke {
-                width: 1.5,
-                line_join: LineJoin::Round,
-                ..Stroke::default()
-            };
-            pixmap.stroke_path(outline, &paint, &stroke, at, None);
+            if let Some(fill) = fill {
+                paint.set_color(fill);
+                pixmap.fill_path(outline, &paint, FillRule::Winding, at, None);
+            }
+            if let Some(edge) = edge {
+                paint.set_color(edge);
+                let stroke = Stroke {
+                    width: 1.5,
+                    line_join: LineJoin::Round,
+                    ..Stroke::default()
+                };
+                pixmap.stroke_path(outline, &paint, &stroke, at, None);
+            }
         }
+    }
+
+    /// Draws a body of point masses: bars, discs and the centre-of-mass marker.
+    fn draw_points(&self, pixmap: &mut Pixmap, x: f32, y: f32) {
+        let at = Transform::from_translate(x, y);
+        let mut paint = Paint {
+            anti_alias: true,
+            ..Paint::default()
+        };
         if let Some((discs, bars)) = &self.points {
             paint.set_color(self.edge);
             let stroke = Stroke {

@@ -1,20 +1,20 @@
-//! Sprites: a small body's look rendered once per sub-pixel phase, then stamped.
+//! Sprites: a small body's look rasterised once per sub-pixel phase, then stamped.
 //!
 //! A frame of ten thousand circles spends nearly all its time in the rasteriser's set-up
-//! for each tiny path. A body whose look many bodies share is instead drawn once per
-//! render at each of `PHASES`×`PHASES` sub-pixel offsets, and every frame copies the
-//! right one into place with source-over compositing.
+//! for each tiny path. A body whose look many bodies share is instead rasterised once
+//! per render at each of `PHASES`×`PHASES` sub-pixel offsets, and every frame blends
+//! the right one into place.
 //!
-//! tiny-skia's anti-aliasing samples coverage on a 4 × 4 grid in each pixel, so a
-//! sprite of phase (i, j) (offset (i, j)/`PHASES` pixels) matches what drawing the path
-//! at that offset gives, up to the rounding of 8-bit compositing: the stamp composites
-//! the sprite's premultiplied pixels with the same formula tiny-skia uses,
-//! d' = s + (d·(255 - s_a) + 255)/256, but drawing the fill and then the outline
-//! rounds after each, stamping after both. A body's position is snapped to the nearest
-//! 1/`PHASES` of a pixel before it is stamped. `tests/integration/perf.rs` measures the
-//! difference against drawing every path.
+//! A sprite keeps, for each pixel, the anti-aliasing coverage of the fill and of the
+//! outline as tiny-skia computes them, and the stamp blends the two colours with the
+//! arithmetic of tiny-skia's 8-bit pipeline, in the same order: so stamping a look at a
+//! position snapped to 1/`PHASES` pixel gives the bytes that drawing its paths there
+//! gives. The look's outline is put on a fine grid first ([`GRID`]) so that its
+//! coverage does not depend on which whole pixel it is drawn at. Against paths drawn at
+//! the unsnapped position, the difference is that of moving the shape by at most
+//! 1/(2·`PHASES`) pixel; `tests/integration/perf.rs` measures both.
 
-use tiny_skia::Pixmap;
+use tiny_skia::{Color, Pixmap};
 
 use super::bodies::BodyLook;
 
@@ -29,13 +29,25 @@ pub const MAX_SPRITE_REACH: f32 = 24.0;
 /// [`BodyLook::on_grid`]), so that the sprite and the path agree sample for sample.
 pub const GRID: f32 = 1.0 / 256.0;
 
-/// A look drawn once at every sub-pixel phase.
+/// A look rasterised once at every sub-pixel phase.
 #[derive(Clone, Debug)]
 pub struct SpriteSheet {
     sprites: Vec<Sprite>,
+    fill: Ink,
+    edge: Ink,
 }
 
-/// One phase of a look: premultiplied RGBA rows, trimmed to the pixels it touches.
+/// A paint's colour as tiny-skia's 8-bit pipeline holds it: premultiplied bytes, and
+/// whether it is opaque (tiny-skia then blends by linear interpolation with the
+/// coverage, otherwise by scaling the colour by the coverage and compositing over).
+#[derive(Clone, Copy, Debug)]
+struct Ink {
+    rgba: [u16; 4],
+    opaque: bool,
+}
+
+/// One phase of a look: coverage of the fill and of the outline for each pixel of the
+/// smallest rectangle that either touches.
 #[derive(Clone, Debug)]
 struct Sprite {
     /// The offset of the sprite's top-left pixel from the whole-pixel part of the
@@ -44,17 +56,20 @@ struct Sprite {
     dy: i32,
     width: usize,
     height: usize,
-    /// Premultiplied RGBA, `width`·`height`·4 bytes, row after row.
-    rgba: Vec<u8>,
+    /// (fill coverage, outline coverage) for each pixel, row after row.
+    coverage: Vec<[u8; 2]>,
 }
 
 impl SpriteSheet {
-    /// Renders a look at every phase, or returns `None` when it is too large to stamp.
-    /// The look is first put on the [`GRID`].
+    /// Rasterises an outline look at every phase, or returns `None` when it is too
+    /// large to stamp or is not an outline.
     pub fn new(look: &BodyLook) -> Option<Self> {
+        if !look.is_outline() {
+            return None;
+        }
         let look = look.on_grid(GRID);
         let reach = look.reach();
-        if !(reach <= MAX_SPRITE_REACH) {
+        if reach.is_nan() || reach > MAX_SPRITE_REACH {
             return None;
         }
         // Room for the outline's half-width and anti-aliasing on every side.
@@ -63,14 +78,24 @@ impl SpriteSheet {
         let mut sprites = Vec::with_capacity((PHASES * PHASES) as usize);
         for j in 0..PHASES {
             for i in 0..PHASES {
-                let mut pixmap = Pixmap::new(side, side)?;
-                let fx = i as f32 / PHASES as f32;
-                let fy = j as f32 / PHASES as f32;
-                look.draw(&mut pixmap, pad as f32 + fx, pad as f32 + fy);
-                sprites.push(Sprite::trimmed(&pixmap, -pad, -pad));
+                let (x, y) = (
+                    pad as f32 + i as f32 / PHASES as f32,
+                    pad as f32 + j as f32 / PHASES as f32,
+                );
+                // Opaque white over transparent black leaves the coverage in alpha.
+                let mut fill = Pixmap::new(side, side)?;
+                look.draw_outline(&mut fill, x, y, Some(Color::WHITE), None);
+                let mut edge = Pixmap::new(side, side)?;
+                look.draw_outline(&mut edge, x, y, None, Some(Color::WHITE));
+                sprites.push(Sprite::trimmed(&fill, &edge, -pad, -pad));
             }
         }
-        Some(SpriteSheet { sprites })
+        let (fill, edge) = look.colors();
+        Some(SpriteSheet {
+            sprites,
+            fill: Ink::of(fill),
+            edge: Ink::of(edge),
+        })
     }
 
     /// Stamps the look with its centre at pixel (x, y), snapped to the nearest
@@ -79,7 +104,45 @@ impl SpriteSheet {
         let (ix, i) = snap(x);
         let (iy, j) = snap(y);
         let sprite = &self.sprites[(j * PHASES + i) as usize];
-        sprite.stamp(pixmap, ix + sprite.dx as i64, iy + sprite.dy as i64);
+        sprite.stamp(
+            pixmap,
+            ix + i64::from(sprite.dx),
+            iy + i64::from(sprite.dy),
+            self.fill,
+            self.edge,
+        );
+    }
+}
+
+impl Ink {
+    fn of(color: Color) -> Ink {
+        let c = color.premultiply().to_color_u8();
+        Ink {
+            rgba: [c.red(), c.green(), c.blue(), c.alpha()].map(u16::from),
+            opaque: c.alpha() == 255,
+        }
+    }
+
+    /// Blends this ink with coverage `c` over the pixel `d`, as tiny-skia's 8-bit
+    /// pipeline does, with div255(v) = (v + 255) >> 8:
+    /// opaque ink: d' = div255(d·(255 - c) + s·c) (linear interpolation);
+    /// otherwise: s' = div255(s·c), then d' = s' + div255(d·(255 - s'_a)) (source over).
+    /// Both leave d unchanged when c = 0.
+    #[inline(always)]
+    fn blend(&self, d: &mut [u8], c: u8) {
+        let c = u16::from(c);
+        let div255 = |v: u16| (v + 255) >> 8;
+        if self.opaque {
+            for (d, s) in d.iter_mut().zip(self.rgba) {
+                *d = div255(u16::from(*d) * (255 - c) + s * c) as u8;
+            }
+        } else {
+            let s = self.rgba.map(|v| div255(v * c));
+            let inv = 255 - s[3];
+            for (d, s) in d.iter_mut().zip(s) {
+                *d = (s + div255(u16::from(*d) * inv)) as u8;
+            }
+        }
     }
 }
 
@@ -93,17 +156,19 @@ fn snap(x: f32) -> (i64, u32) {
 }
 
 impl Sprite {
-    /// Keeps the smallest rectangle of `pixmap` holding every pixel that is not fully
-    /// transparent; (dx, dy) is where the pixmap's top-left sits relative to the
-    /// position it was drawn for.
-    fn trimmed(pixmap: &Pixmap, dx: i32, dy: i32) -> Sprite {
-        let (w, h) = (pixmap.width() as usize, pixmap.height() as usize);
-        let data = pixmap.data();
-        let alpha = |x: usize, y: usize| data[4 * (y * w + x) + 3];
+    /// Keeps the smallest rectangle holding every pixel that the fill or the outline
+    /// covers at all; (dx, dy) is where the pixmaps' top-left sits relative to the
+    /// position they were drawn for.
+    fn trimmed(fill: &Pixmap, edge: &Pixmap, dx: i32, dy: i32) -> Sprite {
+        let (w, h) = (fill.width() as usize, fill.height() as usize);
+        let coverage = |x: usize, y: usize| {
+            let k = 4 * (y * w + x) + 3;
+            [fill.data()[k], edge.data()[k]]
+        };
         let (mut x0, mut y0, mut x1, mut y1) = (w, h, 0, 0);
         for y in 0..h {
             for x in 0..w {
-                if alpha(x, y) != 0 {
+                if coverage(x, y) != [0, 0] {
                     x0 = x0.min(x);
                     y0 = y0.min(y);
                     x1 = x1.max(x + 1);
@@ -117,24 +182,24 @@ impl Sprite {
                 dy,
                 width: 0,
                 height: 0,
-                rgba: Vec::new(),
+                coverage: Vec::new(),
             };
         }
-        let mut rgba = Vec::with_capacity((x1 - x0) * (y1 - y0) * 4);
+        let mut kept = Vec::with_capacity((x1 - x0) * (y1 - y0));
         for y in y0..y1 {
-            rgba.extend_from_slice(&data[4 * (y * w + x0)..4 * (y * w + x1)]);
+            kept.extend((x0..x1).map(|x| coverage(x, y)));
         }
         Sprite {
             dx: dx + x0 as i32,
             dy: dy + y0 as i32,
             width: x1 - x0,
             height: y1 - y0,
-            rgba,
+            coverage: kept,
         }
     }
 
-    /// Composites the sprite with its top-left pixel at (x, y), source over.
-    fn stamp(&self, pixmap: &mut Pixmap, x: i64, y: i64) {
+    /// Blends the fill, then the outline, with the sprite's top-left pixel at (x, y).
+    fn stamp(&self, pixmap: &mut Pixmap, x: i64, y: i64, fill: Ink, edge: Ink) {
         let (pw, ph) = (i64::from(pixmap.width()), i64::from(pixmap.height()));
         let (w, h) = (self.width as i64, self.height as i64);
         // The part of the sprite inside the pixmap: columns cx0..cx1, rows cy0..cy1.
@@ -144,18 +209,18 @@ impl Sprite {
             return;
         }
         let data = pixmap.data_mut();
-        let run = 4 * (cx1 - cx0) as usize;
+        let run = (cx1 - cx0) as usize;
         for row in cy0..cy1 {
-            let src_start = 4 * (row * w + cx0) as usize;
-            let dst_start = 4 * ((y + row) * pw + x + cx0) as usize;
-            let src = &self.rgba[src_start..src_start + run];
-            let dst = &mut data[dst_start..dst_start + run];
-            for (d, s) in dst.chunks_exact_mut(4).zip(src.chunks_exact(4)) {
-                // Source over, premultiplied, as tiny-skia's 8-bit pipeline computes it:
-                // d' = s + (d·(255 - s_a) + 255) >> 8, exact when s_a is 0 or 255.
-                let inv = 255 - u16::from(s[3]);
-                for c in 0..4 {
-                    d[c] = s[c] + ((u16::from(d[c]) * inv + 255) >> 8) as u8;
+            let src = (row * w + cx0) as usize;
+            let dst = 4 * ((y + row) * pw + x + cx0) as usize;
+            let covers = &self.coverage[src..src + run];
+            let pixels = &mut data[dst..dst + 4 * run];
+            for (d, [c_fill, c_edge]) in pixels.chunks_exact_mut(4).zip(covers) {
+                if *c_fill != 0 {
+                    fill.blend(d, *c_fill);
+                }
+                if *c_edge != 0 {
+                    edge.blend(d, *c_edge);
                 }
             }
         }

@@ -426,7 +426,7 @@ pub fn for_each_chunk_pair(
 
 /// Returns true when every component of `pos` and `vel` is finite.
 ///
-/// x - x is 0 for a finite x and NaN for an infinite or NaN one, and a sum of zeros and
+/// 0·x is ±0 for a finite x and NaN for an infinite or NaN one, and a sum of zeros and
 /// NaNs is NaN as soon as one term is: so the sums below are finite exactly when every
 /// number is. Four independent sums let the loop run on vector registers.
 pub fn all_finite(pos: &[DVec2], vel: &[DVec2]) -> bool {
@@ -451,12 +451,12 @@ pub fn all_finite_kernel(pos: &[DVec2], vel: &[DVec2]) -> bool {
     let mut v4 = vel.chunks_exact(4);
     for (p, v) in (&mut p4).zip(&mut v4) {
         for j in 0..4 {
-            // x - x: 0 when x is finite, NaN otherwise.
-            sums[j] += (p[j] - p[j]) + (v[j] - v[j]);
+            // 0·x: ±0 when x is finite, NaN otherwise.
+            sums[j] += p[j] * 0.0 + v[j] * 0.0;
         }
     }
     for (p, v) in p4.remainder().iter().zip(v4.remainder()) {
-        sums[0] += (*p - *p) + (*v - *v);
+        sums[0] += *p * 0.0 + *v * 0.0;
     }
     (sums[0] + sums[1] + sums[2] + sums[3]).is_finite()
 }

@@ -3,5 +3,6 @@
 
 mod bad_input;
 mod closed_forms;
+mod perf;
 mod render_cli;
 mod util;
