@@ -92,6 +92,9 @@ pub struct Renderer {
     height: u32,
     clip: ClipRect,
     static_layer: Pixmap,
+    /// The background colour while the static layer is nothing else: then a frame
+    /// starts with a fill, which writes memory without reading a copy's source.
+    plain: Option<Color>,
     /// The distinct looks of the scene's bodies: bodies alike (a swarm's members, say)
     /// share one, prepared once.
     looks: Vec<Look>,
@@ -146,7 +149,8 @@ impl Renderer {
         let camera = Camera::fit(r.view, r.width, r.height);
         let mut static_layer = Pixmap::new(r.width, r.height)
             .expect("the scene validator keeps image sides between 1 and 16384");
-        static_layer.fill(bodies::color(r.background, 1.0));
+        let background = bodies::color(r.background, 1.0);
+        static_layer.fill(background);
         // Consecutive bodies that look alike share one look; a swarm's members are
         // consecutive, so a swarm of any size has one.
         let mut looks: Vec<Look> = Vec::new();
@@ -190,6 +194,7 @@ impl Renderer {
             height: r.height,
             clip: ClipRect::guard(r.width, r.height),
             static_layer,
+            plain: Some(background),
             looks,
             look_of,
             arrow_bodies,
@@ -211,6 +216,7 @@ impl Renderer {
     /// labels) before the first frame. It is drawn once per render; every frame starts
     /// from a copy of it.
     pub fn static_layer_mut(&mut self) -> &mut Pixmap {
+        self.plain = None;
         &mut self.static_layer
     }
 
@@ -253,7 +259,10 @@ impl Renderer {
             (self.width, self.height),
             "draw_into needs a pixmap the size of the frame"
         );
-        pixmap.data_mut().copy_from_slice(self.static_layer.data());
+        match self.plain {
+            Some(background) => pixmap.fill(background),
+            None => pixmap.data_mut().copy_from_slice(self.static_layer.data()),
+        }
         self.draw_moving(frame, pixmap);
     }
 
