@@ -20,6 +20,7 @@ use crate::error::{Error, Result};
 use crate::output::{self, Failure, Manifest, Timings};
 use tiny_skia::Pixmap;
 
+use crate::render::fastpng::StaticPng;
 use crate::render::{encode_png_into, ArrowScales, Compression, FrameView, Provenance, Renderer};
 use crate::scene::Scene;
 use crate::sim::{BlowUp, IntegratorKind, Simulation};
@@ -135,6 +136,11 @@ pub fn render_with(
     let needs_forces = renderer.needs_forces();
     let needs_velocities = renderer.needs_velocities();
     let opaque = renderer.frames_are_opaque();
+    // The default compression encodes the static layer once; what it needs (opaque
+    // frames) is checked here, and the png crate encodes otherwise.
+    let static_png = (opaque && options.compression == Compression::Fast)
+        .then(|| StaticPng::new(renderer.static_layer()))
+        .flatten();
     let trails = scene.render.trails;
 
     let threads = match options.threads {
@@ -153,8 +159,15 @@ pub fn render_with(
     std::thread::scope(|scope| {
         for _ in 0..threads {
             let receiver = receiver.clone();
-            let (renderer, clock, stop, first_error, written, progress) =
-                (&renderer, &clock, &stop, &first_error, &written, &progress);
+            let (renderer, clock, stop, first_error, written, progress, static_png) = (
+                &renderer,
+                &clock,
+                &stop,
+                &first_error,
+                &written,
+                &progress,
+                &static_png,
+            );
             scope.spawn(move || {
                 // Each worker draws every frame into one pixmap and encodes into one
                 // buffer, so no frame allocates an image.
@@ -162,6 +175,7 @@ pub fn render_with(
                     pixmap: renderer.new_frame(),
                     png: Vec::new(),
                     opaque,
+                    static_png: static_png.as_ref(),
                 };
                 for job in receiver {
                     if stop.load(Ordering::Relaxed) {
@@ -315,11 +329,13 @@ pub fn render_with(
 }
 
 /// What a worker reuses from frame to frame.
-struct Buffers {
+struct Buffers<'a> {
     pixmap: Pixmap,
     png: Vec<u8>,
     /// Whether every frame is opaque, so the encoder need not check.
     opaque: bool,
+    /// The static layer's compressed tiles, for the default compression.
+    static_png: Option<&'a StaticPng>,
 }
 
 /// Draws, encodes and writes one frame, adding each stage's time to the clock.
@@ -332,7 +348,7 @@ fn draw_and_write(
     dir: &std::path::Path,
     options: &RenderOptions,
     clock: &StageClock,
-    buffers: &mut Buffers,
+    buffers: &mut Buffers<'_>,
 ) -> Result<()> {
     let started = Instant::now();
     let view = FrameView {
@@ -345,14 +361,18 @@ fn draw_and_write(
     };
     renderer.draw_into(&view, &mut buffers.pixmap);
     let drawn = StageClock::add(&clock.draw, started);
-    encode_png_into(
-        &mut buffers.png,
-        &buffers.pixmap,
-        &provenance(scene, integrator, job.t, job.index),
-        options.compression,
-        buffers.opaque,
-    )
-    .map_err(|e| Error::Runtime(format!("cannot encode frame {}: {e}", job.index)))?;
+    let provenance = provenance(scene, integrator, job.t, job.index);
+    match buffers.static_png {
+        Some(encoder) => encoder.encode(&buffers.pixmap, &provenance, &mut buffers.png),
+        None => encode_png_into(
+            &mut buffers.png,
+            &buffers.pixmap,
+            &provenance,
+            options.compression,
+            buffers.opaque,
+        )
+        .map_err(|e| Error::Runtime(format!("cannot encode frame {}: {e}", job.index)))?,
+    }
     let encoded = StageClock::add(&clock.encode, drawn);
     output::write_atomic(&dir.join(output::frame_file_name(job.index)), &buffers.png)?;
     StageClock::add(&clock.write, encoded);

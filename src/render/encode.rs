@@ -7,12 +7,16 @@ use tiny_skia::Pixmap;
 /// How hard the PNG encoder compresses. Every level is lossless.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Compression {
-    /// The least work: the largest files.
+    /// The `png` crate's fastest mode: the Up filter and `fdeflate` over every frame.
     Fastest,
-    /// The default: nearly as fast, much smaller.
+    /// The default. In a render whose frames are opaque, the same filter and code as
+    /// `Fastest`, with the static layer compressed once and reused in every frame
+    /// ([`super::fastpng`]): quicker when a static layer holds more than the
+    /// background. Elsewhere, the `png` crate's fast mode (adaptive filtering).
     #[default]
     Fast,
-    /// The smallest files, at several times the encoding time.
+    /// The smallest files (zlib level 9, adaptive filtering), at tens of times the
+    /// encoding time.
     Best,
 }
 

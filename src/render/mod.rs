@@ -14,6 +14,7 @@ pub mod bodies;
 pub mod camera;
 pub mod clip;
 pub mod encode;
+pub mod fastpng;
 pub mod sprite;
 
 use std::sync::Arc;
@@ -210,6 +211,11 @@ impl Renderer {
     /// Returns the guard band that geometry is clipped to before it is drawn.
     pub fn clip(&self) -> &ClipRect {
         &self.clip
+    }
+
+    /// Returns the static layer that every frame starts from.
+    pub fn static_layer(&self) -> &Pixmap {
+        &self.static_layer
     }
 
     /// Returns the static layer, to draw on it what does not move (axes, fields,

@@ -537,3 +537,47 @@ fn bench_prints_frames_per_second_and_nanoseconds_per_body_step() {
     // It writes nothing where it runs.
     assert!(sandbox.list(".").is_empty(), "{:?}", sandbox.list("."));
 }
+
+#[test]
+fn frames_compressed_with_reused_static_tiles_decode_to_the_same_pixels() {
+    use physframes::pipeline::{render_with, RenderOptions};
+    use physframes::render::bodies::draw_arrow;
+    use physframes::render::Compression;
+
+    let text = std::fs::read_to_string(example("bench/circles-1000.toml")).expect("scene");
+    let s = scene(&text);
+    // A static layer of arrows, as a vector field would draw.
+    let field = |r: &mut Renderer| {
+        let clip = *r.clip();
+        let layer = r.static_layer_mut();
+        for k in 0..300 {
+            let (x, y) = (f64::from(k % 30) * 43.0, f64::from(k / 30) * 71.0 + 9.0);
+            let grey = Color::from_rgba8(0x88, 0x88, 0x88, 0xff);
+            draw_arrow(
+                layer,
+                &clip,
+                (x, y),
+                (25.0, 9.0 - f64::from(k % 7)),
+                grey,
+                1.0,
+            );
+        }
+    };
+    let sandbox = Sandbox::new();
+    for (dir, compression) in [("tiles", Compression::Fast), ("png", Compression::Fastest)] {
+        let options = RenderOptions {
+            out_dir: sandbox.path(dir),
+            frames: Some(0..8),
+            threads: 2,
+            compression,
+            progress: false,
+        };
+        render_with(&s, &options, field).expect("renders");
+    }
+    for k in 0..8 {
+        let name = format!("frame_{k:06}.png");
+        let a = image::open(sandbox.path(&format!("tiles/{name}"))).expect("decodes");
+        let b = image::open(sandbox.path(&format!("png/{name}"))).expect("decodes");
+        assert!(a.to_rgba8() == b.to_rgba8(), "{name}: pixels differ");
+    }
+}
