@@ -7,7 +7,9 @@
 //! - `static-layer/*`: the 1000-circle render again, with and without a static layer
 //!   of 500 arrows and axes drawn once into the renderer; the target is at most 10%
 //!   more time per frame.
-//! - `stage/*`: one frame's drawing and encoding on one thread.
+//! - `stage/*`: one frame's drawing and encoding on one thread (`encode-fast` is the
+//!   default compression, which reuses the static layer's compressed tiles;
+//!   `encode-fastest` the `png` crate's fastest mode).
 //! - `compression/*`: encoding one frame at each `--compression` level (the sizes are
 //!   printed once).
 
@@ -146,14 +148,22 @@ fn stages(c: &mut Criterion) {
             group.bench_function(format!("{name}{suffix}/draw"), |b| {
                 b.iter(|| renderer.draw_into(&view, &mut pixmap))
             });
+            renderer.draw_into(&view, &mut pixmap);
             let mut png = Vec::new();
+            // The default compression, as a render uses it: the static layer's tiles
+            // compressed once.
+            let encoder =
+                StaticPng::new(renderer.static_layer()).expect("the fdeflate code is readable");
             group.bench_function(format!("{name}{suffix}/encode-fast"), |b| {
+                b.iter(|| encoder.encode(&pixmap, &Provenance::default(), &mut png))
+            });
+            group.bench_function(format!("{name}{suffix}/encode-fastest"), |b| {
                 b.iter(|| {
                     encode_png_into(
                         &mut png,
                         &pixmap,
                         &Provenance::default(),
-                        Compression::Fast,
+                        Compression::Fastest,
                         true,
                     )
                     .expect("encodes")

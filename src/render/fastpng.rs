@@ -40,6 +40,10 @@ pub struct StaticPng {
     sums: Vec<(u32, u32)>,
     /// For each tile, row by row: what its filtered bytes compress to.
     tiles: Vec<TileBits>,
+    /// For each row, the filter-type byte and the whole filtered row compressed at
+    /// once (runs of zeros cross tiles), as bits of the pool, and its Adler-32: used
+    /// when the row and the row above equal the static layer's.
+    rows: Vec<(TileBits, u32)>,
     /// The compressed bits of the tiles, each starting on a byte; eight spare zero bytes
     /// at the end let every tile be read in whole 64-bit words.
     pool: Vec<u8>,
@@ -123,8 +127,28 @@ impl StaticPng {
                 pool.extend_from_slice(&bytes);
             }
         }
+        let mut rows = Vec::with_capacity(height as usize);
+        for row in filtered.chunks(stride) {
+            let mut w = Deflate::new(codes, Vec::new());
+            w.literal(usize::from(UP));
+            w.bytes(row);
+            w.flush_run();
+            let (bytes, bits) = w.into_bits();
+            let mut h = Adler32::new();
+            h.write(&[UP]);
+            h.write(row);
+            rows.push((
+                TileBits::Bits {
+                    start: pool.len() as u32,
+                    bits: bits as u32,
+                },
+                h.finish(),
+            ));
+            pool.extend_from_slice(&bytes);
+        }
         pool.extend_from_slice(&[0; 8]);
         Some(StaticPng {
+            rows,
             width,
             height,
             pixels,
@@ -174,16 +198,36 @@ impl StaticPng {
         // Whether each tile of the row above, and of this row, equals the static layer.
         let mut above_same = vec![true; tiles_per_row];
         let mut same = vec![true; tiles_per_row];
+        // Whether the whole row above equals the static layer's.
+        let mut above_row_same = true;
         for y in 0..self.height as usize {
             let row = &data[y * stride..(y + 1) * stride];
             let static_row = &self.pixels[y * stride..(y + 1) * stride];
-            for ((s, a), b) in same
-                .iter_mut()
-                .zip(row.chunks(TILE))
-                .zip(static_row.chunks(TILE))
-            {
-                // An OR of XORs compiles to a few vector instructions, not a call.
-                *s = a.iter().zip(b).fold(0u8, |d, (x, y)| d | (x ^ y)) == 0;
+            let row_same = row == static_row;
+            if row_same {
+                same.fill(true);
+                if above_row_same {
+                    // The whole filtered row is the static layer's: copy its bits.
+                    if let (TileBits::Bits { start, bits }, row_adler) = self.rows[y] {
+                        w.flush_run();
+                        w.put_pool_bits(&self.pool[start as usize..], bits as usize);
+                        adler = adler_combine(adler, row_adler, stride + 1);
+                    }
+                    std::mem::swap(&mut same, &mut above_same);
+                    above_row_same = true;
+                    continue;
+                }
+            }
+            above_row_same = row_same;
+            if !row_same {
+                for ((s, a), b) in same
+                    .iter_mut()
+                    .zip(row.chunks(TILE))
+                    .zip(static_row.chunks(TILE))
+                {
+                    // An OR of XORs compiles to a few vector instructions, not a call.
+                    *s = a.iter().zip(b).fold(0u8, |d, (x, y)| d | (x ^ y)) == 0;
+                }
             }
             w.flush_run();
             w.literal(usize::from(UP));
@@ -382,6 +426,16 @@ impl Deflate {
                 self.run += 8;
                 continue;
             }
+            // No zero byte (the classic test: a byte is zero when subtracting one
+            // borrows into its top bit and the byte had no top bit): eight literals.
+            const ONES: u64 = 0x0101_0101_0101_0101;
+            const TOPS: u64 = 0x8080_8080_8080_8080;
+            if word.wrapping_sub(ONES) & !word & TOPS == 0 {
+                self.flush_run();
+                self.four(&chunk[..4]);
+                self.four(&chunk[4..]);
+                continue;
+            }
             let first = (word.trailing_zeros() / 8) as usize;
             let last = 7 - (word.leading_zeros() / 8) as usize;
             self.run += first;
@@ -397,6 +451,18 @@ impl Deflate {
                 self.literal(usize::from(b));
             }
         }
+    }
+
+    /// Writes four bytes as literals in one write (codes are at most 15 bits).
+    #[inline(always)]
+    fn four(&mut self, bytes: &[u8]) {
+        let lit = &self.codes.literal;
+        let (c0, l0) = lit[usize::from(bytes[0])];
+        let (c1, l1) = lit[usize::from(bytes[1])];
+        let (c2, l2) = lit[usize::from(bytes[2])];
+        let (c3, l3) = lit[usize::from(bytes[3])];
+        let bits = c0 | c1 << l0 | c2 << (l0 + l1) | c3 << (l0 + l1 + l2);
+        self.put(bits, l0 + l1 + l2 + l3);
     }
 
     /// Writes bytes as literals, four codes (at most 15 bits each) at a time.
