@@ -7,7 +7,8 @@
 //! - `static-layer/*`: the 1000-circle render again, with and without a static layer
 //!   of 500 arrows and axes drawn once into the renderer; the target is at most 10%
 //!   more time per frame.
-//! - `stage/*`: one frame's drawing and encoding on one thread (`encode-fast` is the
+//! - `stage/*`: one frame's drawing and encoding on one thread, for 3, 1000 and 10,000
+//!   circles, with and without the static layer (`encode-fast` is the
 //!   default compression, which reuses the static layer's compressed tiles;
 //!   `encode-fastest` the `png` crate's fastest mode).
 //! - `compression/*`: encoding one frame at each `--compression` level (the sizes are
@@ -131,8 +132,16 @@ fn frame_of(scene: &Scene, static_layer: bool) -> (Renderer, physframes::sim::St
 
 fn stages(c: &mut Criterion) {
     let mut group = c.benchmark_group("stage");
-    for name in ["circles-1000", "circles-10000"] {
-        let scene = scene(&format!("{name}.toml"));
+    for name in ["circles-3", "circles-1000", "circles-10000"] {
+        let scene = if name == "circles-3" {
+            // A few bodies over the field: most rows show the static layer unchanged.
+            let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bench/circles-1000.toml");
+            let text = std::fs::read_to_string(&path).expect("the benchmark scene");
+            physframes::scene::parse(&path, &text.replace("count = 1000", "count = 3"))
+                .expect("a valid scene")
+        } else {
+            scene(&format!("{name}.toml"))
+        };
         for static_layer in [false, true] {
             let (renderer, state) = frame_of(&scene, static_layer);
             let view = FrameView {
