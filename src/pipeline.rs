@@ -19,8 +19,11 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use crate::checkpoint::{Checkpoint, CheckpointOptions, CheckpointWriter, RunKey};
 use crate::error::{Error, Result};
 use crate::output::{self, Failure, Manifest, Timings};
+use tiny_skia::Pixmap;
+
+use crate::render::fastpng::StaticPng;
 use crate::render::layers::TraceRecorder;
-use crate::render::{encode_png, ArrowScales, Compression, FrameView, Provenance, Renderer};
+use crate::render::{encode_png_into, ArrowScales, Compression, FrameView, Provenance, Renderer};
 use crate::scene::Scene;
 use crate::sim::{BlowUp, IntegratorKind};
 
@@ -62,6 +65,7 @@ struct Job {
     index: u64,
     t: f64,
     pos: Arc<[DVec2]>,
+    /// Velocities, when some body shows its velocity arrow; empty otherwise.
     vel: Vec<DVec2>,
     force: Option<Vec<DVec2>>,
     /// Positions at frames 0 ..= index, when trails are on.
@@ -106,7 +110,7 @@ pub fn provenance(scene: &Scene, integrator: IntegratorKind, t: f64, frame: u64)
 /// On a numerical blow-up the frames already written stay valid, the manifest records
 /// the failure, and the error is [`Error::BlowUp`].
 pub fn render(scene: &Scene, options: &RenderOptions) -> Result<RenderReport> {
-    render_with(scene, options, &RenderExtras::default())
+    render_full(scene, options, &RenderExtras::default(), |_| {})
 }
 
 /// Renders like [`render`], resuming and using checkpoints as `extras` asks.
@@ -114,6 +118,26 @@ pub fn render_with(
     scene: &Scene,
     options: &RenderOptions,
     extras: &RenderExtras,
+) -> Result<RenderReport> {
+    render_full(scene, options, extras, |_| {})
+}
+
+/// Like [`render`], letting `prepare` draw more static layers into the renderer once,
+/// before the first frame: every frame starts from a copy of them.
+pub fn render_prepared(
+    scene: &Scene,
+    options: &RenderOptions,
+    prepare: impl FnOnce(&mut Renderer),
+) -> Result<RenderReport> {
+    render_full(scene, options, &RenderExtras::default(), prepare)
+}
+
+/// Renders with every option: resume and checkpoints, and extra static layers.
+fn render_full(
+    scene: &Scene,
+    options: &RenderOptions,
+    extras: &RenderExtras,
+    prepare: impl FnOnce(&mut Renderer),
 ) -> Result<RenderReport> {
     let wall = Instant::now();
     let frame_count = scene.render.frame_count;
@@ -148,8 +172,17 @@ pub fn render_with(
     let mut force = vec![DVec2::ZERO; scene.bodies.len()];
     sim.net_forces(&mut force);
     let arrows = ArrowScales::fit(scene, &sim.state().vel, &force);
-    let renderer = Renderer::new(scene, arrows);
+    let mut renderer = Renderer::new(scene, arrows);
+    prepare(&mut renderer);
+    // Only what the frames show is copied out of the simulation for them.
     let needs_forces = renderer.needs_forces();
+    let needs_velocities = renderer.needs_velocities();
+    let opaque = renderer.frames_are_opaque();
+    // The default compression encodes the static layer once; what it needs (opaque
+    // frames) is checked here, and the png crate encodes otherwise.
+    let static_png = (opaque && options.compression == Compression::Fast)
+        .then(|| StaticPng::new(renderer.static_layer()))
+        .flatten();
     let trails = scene.render.trails;
 
     let threads = match options.threads {
@@ -189,14 +222,38 @@ pub fn render_with(
     std::thread::scope(|scope| {
         for _ in 0..threads {
             let receiver = receiver.clone();
-            let (renderer, clock, stop, first_error, written, progress) =
-                (&renderer, &clock, &stop, &first_error, &written, &progress);
+            let (renderer, clock, stop, first_error, written, progress, static_png) = (
+                &renderer,
+                &clock,
+                &stop,
+                &first_error,
+                &written,
+                &progress,
+                &static_png,
+            );
             scope.spawn(move || {
+                // Each worker draws every frame into one pixmap and encodes into one
+                // buffer, so no frame allocates an image.
+                let mut buffers = Buffers {
+                    pixmap: renderer.new_frame(),
+                    png: Vec::new(),
+                    opaque,
+                    static_png: static_png.as_ref(),
+                };
                 for job in receiver {
                     if stop.load(Ordering::Relaxed) {
                         continue;
                     }
-                    match draw_and_write(scene, integrator, renderer, &job, dir, options, clock) {
+                    match draw_and_write(
+                        scene,
+                        integrator,
+                        renderer,
+                        &job,
+                        dir,
+                        options,
+                        clock,
+                        &mut buffers,
+                    ) {
                         Ok(()) => {
                             written.fetch_add(1, Ordering::Relaxed);
                             progress.inc(1);
@@ -261,7 +318,11 @@ pub fn render_with(
                 index: k,
                 t: state.t,
                 pos,
-                vel: state.vel.clone(),
+                vel: if needs_velocities {
+                    state.vel.clone()
+                } else {
+                    Vec::new()
+                },
                 force,
                 trail: trails.then(|| history.clone()),
                 traces: traces.as_ref().map(|r| r.history().to_vec()),
@@ -354,7 +415,18 @@ pub fn render_with(
     })
 }
 
+/// What a worker reuses from frame to frame.
+struct Buffers<'a> {
+    pixmap: Pixmap,
+    png: Vec<u8>,
+    /// Whether every frame is opaque, so the encoder need not check.
+    opaque: bool,
+    /// The static layer's compressed tiles, for the default compression.
+    static_png: Option<&'a StaticPng>,
+}
+
 /// Draws, encodes and writes one frame, adding each stage's time to the clock.
+#[allow(clippy::too_many_arguments)]
 fn draw_and_write(
     scene: &Scene,
     integrator: IntegratorKind,
@@ -363,6 +435,7 @@ fn draw_and_write(
     dir: &std::path::Path,
     options: &RenderOptions,
     clock: &StageClock,
+    buffers: &mut Buffers<'_>,
 ) -> Result<()> {
     let started = Instant::now();
     let view = FrameView {
@@ -374,16 +447,22 @@ fn draw_and_write(
         trail: job.trail.as_deref(),
         traces: job.traces.as_deref(),
     };
-    let pixmap = renderer.draw(&view);
+    renderer.draw_into(&view, &mut buffers.pixmap);
     let drawn = StageClock::add(&clock.draw, started);
-    let png = encode_png(
-        &pixmap,
-        &provenance(scene, integrator, job.t, job.index),
-        options.compression,
-    )
-    .map_err(|e| Error::Runtime(format!("cannot encode frame {}: {e}", job.index)))?;
+    let provenance = provenance(scene, integrator, job.t, job.index);
+    match buffers.static_png {
+        Some(encoder) => encoder.encode(&buffers.pixmap, &provenance, &mut buffers.png),
+        None => encode_png_into(
+            &mut buffers.png,
+            &buffers.pixmap,
+            &provenance,
+            options.compression,
+            buffers.opaque,
+        )
+        .map_err(|e| Error::Runtime(format!("cannot encode frame {}: {e}", job.index)))?,
+    }
     let encoded = StageClock::add(&clock.encode, drawn);
-    output::write_atomic(&dir.join(output::frame_file_name(job.index)), &png)?;
+    output::write_atomic(&dir.join(output::frame_file_name(job.index)), &buffers.png)?;
     StageClock::add(&clock.write, encoded);
     Ok(())
 }

@@ -3,6 +3,7 @@
 //! Raw flags are turned into checked options here; the library does the work. Every
 //! error is printed once, with its cause, and mapped to a documented exit code.
 
+mod bench;
 mod check;
 mod checkpoint;
 mod completions;
@@ -81,6 +82,8 @@ enum Command {
     /// Study the integrators on problems with closed forms: convergence,
     /// work-precision, stability and energy, as tables, CSV and PNG.
     Study(study::StudyArgs),
+    /// Measure frames per second (or simulation speed) on this machine.
+    Bench(bench::BenchArgs),
 }
 
 /// Flags shared by the commands that load a scene.
@@ -198,6 +201,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Figure(args) => figure::run(args),
         Command::Diff(args) => diff::run(args),
         Command::Study(args) => study::run(args, verbosity),
+        Command::Bench(args) => bench::run(args),
     }
 }
 

@@ -4,7 +4,8 @@ use std::sync::Arc;
 
 use glam::DVec2;
 use tiny_skia::{
-    Color, FillRule, LineCap, LineJoin, Paint, Path, PathBuilder, Pixmap, Stroke, Transform,
+    Color, FillRule, LineCap, LineJoin, Paint, Path, PathBuilder, PathSegment, Pixmap, Stroke,
+    Transform,
 };
 
 use super::camera::Camera;
@@ -110,30 +111,112 @@ impl BodyLook {
         }
     }
 
+    /// Returns a radius in pixels, around the centre of mass, that encloses the shape.
+    pub fn reach(&self) -> f32 {
+        self.reach
+    }
+
+    /// Returns true when the look is an outline alone (a circle, box or polygon),
+    /// which can be pre-rendered as a sprite; bodies of point masses also draw the
+    /// centre-of-mass marker and are drawn as paths.
+    pub fn is_outline(&self) -> bool {
+        self.outline.is_some() && self.points.is_none()
+    }
+
+    /// Returns the look with its outline's points rounded to multiples of `step`
+    /// pixels (a power of two). Translating such points by a multiple of `step` is
+    /// exact in f32 anywhere in an image of up to 2^15 pixels when `step` ≥ 2^-8, so the
+    /// look rasterises the same, sample for sample, at every whole pixel: what sprites
+    /// need. Rounding by at most step/2 is far below what anti-aliasing resolves.
+    pub fn on_grid(&self, step: f32) -> BodyLook {
+        let snap = |v: f32| (v / step).round() * step;
+        let outline = self.outline.as_ref().and_then(|path| {
+            let mut pb = PathBuilder::new();
+            for segment in path.segments() {
+                match segment {
+                    PathSegment::MoveTo(p) => pb.move_to(snap(p.x), snap(p.y)),
+                    PathSegment::LineTo(p) => pb.line_to(snap(p.x), snap(p.y)),
+                    PathSegment::QuadTo(p, q) => {
+                        pb.quad_to(snap(p.x), snap(p.y), snap(q.x), snap(q.y))
+                    }
+                    PathSegment::CubicTo(p, q, r) => pb.cubic_to(
+                        snap(p.x),
+                        snap(p.y),
+                        snap(q.x),
+                        snap(q.y),
+                        snap(r.x),
+                        snap(r.y),
+                    ),
+                    PathSegment::Close => pb.close(),
+                }
+            }
+            pb.finish()
+        });
+        BodyLook {
+            outline,
+            ..self.clone()
+        }
+    }
+
     /// Returns true when nothing drawn for a body at pixel (x, y) can touch the image.
     pub fn is_outside(&self, x: f32, y: f32, width: u32, height: u32) -> bool {
         let r = self.reach + 2.0;
-        x + r < 0.0 || y + r < 0.0 || x - r > width as f32 || y - r > height as f32
+        // Written so that a position that is not a number counts as outside.
+        !(x + r >= 0.0 && y + r >= 0.0 && x - r <= width as f32 && y - r <= height as f32)
+    }
+
+    /// Returns the colours of an outline body: its fill, then its edge.
+    pub fn colors(&self) -> (Color, Color) {
+        (self.fill, self.edge)
     }
 
     /// Draws the body with its centre of mass at pixel (x, y).
     pub fn draw(&self, pixmap: &mut Pixmap, x: f32, y: f32) {
+        if self.outline.is_some() {
+            self.draw_outline(pixmap, x, y, Some(self.fill), Some(self.edge));
+        }
+        self.draw_points(pixmap, x, y);
+    }
+
+    /// Draws an outline body's fill, then its edge, each in the colour given (or not
+    /// at all for `None`), with its centre of mass at pixel (x, y).
+    pub fn draw_outline(
+        &self,
+        pixmap: &mut Pixmap,
+        x: f32,
+        y: f32,
+        fill: Option<Color>,
+        edge: Option<Color>,
+    ) {
         let at = Transform::from_translate(x, y);
         let mut paint = Paint {
             anti_alias: true,
             ..Paint::default()
         };
         if let Some(outline) = &self.outline {
-            paint.set_color(self.fill);
-            pixmap.fill_path(outline, &paint, FillRule::Winding, at, None);
-            paint.set_color(self.edge);
-            let stroke = Stroke {
-                width: 1.5,
-                line_join: LineJoin::Round,
-                ..Stroke::default()
-            };
-            pixmap.stroke_path(outline, &paint, &stroke, at, None);
+            if let Some(fill) = fill {
+                paint.set_color(fill);
+                pixmap.fill_path(outline, &paint, FillRule::Winding, at, None);
+            }
+            if let Some(edge) = edge {
+                paint.set_color(edge);
+                let stroke = Stroke {
+                    width: 1.5,
+                    line_join: LineJoin::Round,
+                    ..Stroke::default()
+                };
+                pixmap.stroke_path(outline, &paint, &stroke, at, None);
+            }
         }
+    }
+
+    /// Draws a body of point masses: bars, discs and the centre-of-mass marker.
+    fn draw_points(&self, pixmap: &mut Pixmap, x: f32, y: f32) {
+        let at = Transform::from_translate(x, y);
+        let mut paint = Paint {
+            anti_alias: true,
+            ..Paint::default()
+        };
         if let Some((discs, bars)) = &self.points {
             paint.set_color(self.edge);
             let stroke = Stroke {

@@ -4,13 +4,20 @@
 //! move (the background, and later axes and fields) is drawn once per render into a
 //! static layer that each frame starts from; everything that moves (trails, bodies,
 //! arrows) is drawn over it. Geometry is f64 in the world and f32 in pixels.
+//!
+//! Drawing skips what a frame does not show: bodies outside the image are not drawn,
+//! bodies that look alike share one prepared look, and small looks that many bodies
+//! share are stamped from pre-rendered sprites ([`sprite`]) instead of being
+//! rasterised body by body.
 
 pub mod bodies;
 pub mod camera;
 pub mod clip;
 pub mod encode;
+pub mod fastpng;
 pub mod layers;
 pub mod plot;
+pub mod sprite;
 pub mod text;
 pub mod ticks;
 
@@ -20,11 +27,12 @@ use glam::DVec2;
 use tiny_skia::{Color, Pixmap};
 
 pub use camera::Camera;
-pub use encode::{encode_png, Compression, Provenance};
+pub use encode::{encode_png, encode_png_into, Compression, Provenance};
 
 use crate::scene::Scene;
 use bodies::{draw_arrow, BodyLook};
 use clip::ClipRect;
+use sprite::SpriteSheet;
 
 /// The state of one frame, as the renderer sees it.
 #[derive(Clone, Copy, Debug)]
@@ -35,7 +43,8 @@ pub struct FrameView<'a> {
     pub t: f64,
     /// Centre-of-mass positions.
     pub pos: &'a [DVec2],
-    /// Centre-of-mass velocities.
+    /// Centre-of-mass velocities; may be empty when no body shows its velocity
+    /// ([`Renderer::needs_velocities`]).
     pub vel: &'a [DVec2],
     /// Net forces, when some body shows its force arrow.
     pub force: Option<&'a [DVec2]>,
@@ -91,11 +100,30 @@ pub struct Renderer {
     height: u32,
     clip: ClipRect,
     static_layer: Pixmap,
-    looks: Vec<BodyLook>,
+    /// The background colour while the static layer is nothing else: then a frame
+    /// starts with a fill, which writes memory without reading a copy's source.
+    plain: Option<Color>,
+    /// The distinct looks of the scene's bodies: bodies alike (a swarm's members, say)
+    /// share one, prepared once.
+    looks: Vec<Look>,
+    /// The look of every body, as an index into `looks`.
+    look_of: Vec<u32>,
+    /// The bodies that show a velocity or force arrow, in increasing order.
+    arrow_bodies: Vec<u32>,
     arrows: ArrowScales,
     /// Axes, fields, curves, legend and HUD.
     overlay: layers::Overlay,
 }
+
+/// A look shared by one or more bodies, and its sprites when it is stamped.
+struct Look {
+    body: BodyLook,
+    sprite: Option<SpriteSheet>,
+}
+
+/// How many bodies must share a small look before it is stamped from sprites rather
+/// than drawn as a path: scenes of a few bodies are drawn exactly as their paths.
+pub const SPRITE_MIN_BODIES: usize = 16;
 
 /// The colour of velocity arrows.
 fn velocity_color() -> Color {
@@ -107,33 +135,95 @@ fn force_color() -> Color {
     Color::from_rgba8(0xc0, 0x39, 0x2b, 0xff)
 }
 
+/// How bodies are drawn: sprites for small looks many bodies share, or every body as
+/// a path.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum BodyDrawing {
+    /// Stamp small looks shared by at least [`SPRITE_MIN_BODIES`] bodies from sprites;
+    /// draw the others as paths. The default.
+    #[default]
+    Sprites,
+    /// Draw every body as a path at its exact position.
+    Paths,
+}
+
 impl Renderer {
     /// Prepares everything about a scene's frames that does not change between them.
     pub fn new(scene: &Scene, arrows: ArrowScales) -> Self {
+        Self::with_drawing(scene, arrows, BodyDrawing::default())
+    }
+
+    /// Like [`Renderer::new`], choosing how bodies are drawn.
+    pub fn with_drawing(scene: &Scene, arrows: ArrowScales, drawing: BodyDrawing) -> Self {
         let r = &scene.render;
         // One transform for bodies and layers: the camera of the axes' plot area when
         // the scene has `[axes]`, else the view fitted to the whole image.
         let (overlay, camera) = layers::Overlay::new(scene);
         let mut static_layer = Pixmap::new(r.width, r.height)
             .expect("the scene validator keeps image sides between 1 and 16384");
-        static_layer.fill(bodies::color(r.background, 1.0));
+        let background = bodies::color(r.background, 1.0);
+        static_layer.fill(background);
         overlay.draw_static(&mut static_layer);
-        let looks = if r.show_bodies {
-            scene
-                .bodies
-                .iter()
-                .map(|b| BodyLook::new(b, &camera))
-                .collect()
+        // A frame may start with a plain fill only while the static layer is nothing
+        // but the background.
+        let first = static_layer.pixels()[0];
+        let plain = static_layer
+            .pixels()
+            .iter()
+            .all(|p| *p == first)
+            .then_some(background);
+        // Consecutive bodies that look alike share one look; a swarm's members are
+        // consecutive, so a swarm of any size has one.
+        let mut looks: Vec<Look> = Vec::new();
+        let mut users: Vec<usize> = Vec::new();
+        let mut look_of = Vec::with_capacity(scene.bodies.len());
+        // With `show_bodies = false` nothing of the bodies is drawn.
+        let shown = if r.show_bodies {
+            scene.bodies.as_slice()
         } else {
-            Vec::new()
+            &[]
         };
+        for (i, b) in shown.iter().enumerate() {
+            let same = i > 0 && {
+                let a = &shown[i - 1];
+                a.shape == b.shape
+                    && a.color == b.color
+                    && a.show_velocity == b.show_velocity
+                    && a.show_force == b.show_force
+            };
+            if !same {
+                looks.push(Look {
+                    body: BodyLook::new(b, &camera),
+                    sprite: None,
+                });
+                users.push(0);
+            }
+            *users.last_mut().expect("a look was just pushed") += 1;
+            look_of.push((looks.len() - 1) as u32);
+        }
+        if drawing == BodyDrawing::Sprites {
+            for (look, n) in looks.iter_mut().zip(users) {
+                if n >= SPRITE_MIN_BODIES && look.body.is_outline() {
+                    look.sprite = SpriteSheet::new(&look.body);
+                }
+            }
+        }
+        let arrow_bodies = shown
+            .iter()
+            .enumerate()
+            .filter(|(_, b)| b.show_velocity || b.show_force)
+            .map(|(i, _)| i as u32)
+            .collect();
         Renderer {
             camera,
             width: r.width,
             height: r.height,
             clip: ClipRect::guard(r.width, r.height),
             static_layer,
+            plain,
             looks,
+            look_of,
+            arrow_bodies,
             arrows,
             overlay,
         }
@@ -149,42 +239,114 @@ impl Renderer {
         &self.camera
     }
 
-    /// Returns true when some body shows its net force, so frames need forces.
-    pub fn needs_forces(&self) -> bool {
-        self.looks.iter().any(|l| l.show_force)
+    /// Returns the guard band that geometry is clipped to before it is drawn.
+    pub fn clip(&self) -> &ClipRect {
+        &self.clip
     }
 
-    /// Draws one frame.
+    /// Returns the static layer that every frame starts from.
+    pub fn static_layer(&self) -> &Pixmap {
+        &self.static_layer
+    }
+
+    /// Returns the static layer, to draw on it what does not move (axes, fields,
+    /// labels) before the first frame. It is drawn once per render; every frame starts
+    /// from a copy of it.
+    pub fn static_layer_mut(&mut self) -> &mut Pixmap {
+        self.plain = None;
+        &mut self.static_layer
+    }
+
+    /// Returns true when every pixel of the static layer is opaque. Drawing over an
+    /// opaque pixel with source-over leaves it opaque, so then every frame is opaque
+    /// and the encoder need not check.
+    pub fn frames_are_opaque(&self) -> bool {
+        self.static_layer.pixels().iter().all(|p| p.alpha() == 255)
+    }
+
+    /// Returns true when some body shows its velocity, so frames need velocities;
+    /// otherwise [`FrameView::vel`] may be empty.
+    pub fn needs_velocities(&self) -> bool {
+        self.looks.iter().any(|l| l.body.show_velocity)
+    }
+
+    /// Returns true when some body shows its net force, so frames need forces.
+    pub fn needs_forces(&self) -> bool {
+        self.looks.iter().any(|l| l.body.show_force)
+    }
+
+    /// Returns a new pixmap the size of a frame, ready for [`Renderer::draw_into`].
+    pub fn new_frame(&self) -> Pixmap {
+        self.static_layer.clone()
+    }
+
+    /// Draws one frame into a new pixmap.
     pub fn draw(&self, frame: &FrameView<'_>) -> Pixmap {
         let mut pixmap = self.static_layer.clone();
+        self.draw_moving(frame, &mut pixmap);
+        pixmap
+    }
+
+    /// Draws one frame into `pixmap`, which must have the frame's size (as from
+    /// [`Renderer::new_frame`]): a worker reuses one pixmap for all its frames, so no
+    /// frame allocates.
+    pub fn draw_into(&self, frame: &FrameView<'_>, pixmap: &mut Pixmap) {
+        assert_eq!(
+            (pixmap.width(), pixmap.height()),
+            (self.width, self.height),
+            "draw_into needs a pixmap the size of the frame"
+        );
+        match self.plain {
+            Some(background) => pixmap.fill(background),
+            None => pixmap.data_mut().copy_from_slice(self.static_layer.data()),
+        }
+        self.draw_moving(frame, pixmap);
+    }
+
+    /// Draws everything that moves over a copy of the static layer: trails, then
+    /// bodies in index order, then arrows.
+    fn draw_moving(&self, frame: &FrameView<'_>, pixmap: &mut Pixmap) {
         if let Some(trail) = frame.trail {
-            for (i, look) in self.looks.iter().enumerate() {
-                look.draw_trail(&mut pixmap, &self.camera, &self.clip, trail, i);
+            for (i, &look) in self.look_of.iter().enumerate() {
+                self.looks[look as usize].body.draw_trail(
+                    pixmap,
+                    &self.camera,
+                    &self.clip,
+                    trail,
+                    i,
+                );
             }
         }
-        for (i, look) in self.looks.iter().enumerate() {
-            let (x, y) = self.camera.to_pixel(frame.pos[i]);
-            if !look.is_outside(x, y, self.width, self.height) {
-                look.draw(&mut pixmap, x, y);
+        for (p, &look) in frame.pos.iter().zip(&self.look_of) {
+            let look = &self.looks[look as usize];
+            let (x, y) = self.camera.to_pixel(*p);
+            // Bodies entirely outside the image are skipped, and so are positions
+            // that are not finite.
+            if look.body.is_outside(x, y, self.width, self.height) {
+                continue;
+            }
+            match &look.sprite {
+                Some(sprite) => sprite.stamp(pixmap, x, y),
+                None => look.body.draw(pixmap, x, y),
             }
         }
-        for (i, look) in self.looks.iter().enumerate() {
+        for &i in &self.arrow_bodies {
+            let i = i as usize;
+            let look = &self.looks[self.look_of[i] as usize].body;
             let at = self.camera.to_pixel_f64(frame.pos[i]);
             if look.show_velocity {
                 let d = self
                     .camera
                     .to_pixel_vector_f64(self.arrows.velocity * frame.vel[i]);
-                draw_arrow(&mut pixmap, &self.clip, at, d, velocity_color(), 2.0);
+                draw_arrow(pixmap, &self.clip, at, d, velocity_color(), 2.0);
             }
             if let (true, Some(force)) = (look.show_force, frame.force) {
                 let d = self
                     .camera
                     .to_pixel_vector_f64(self.arrows.force * force[i]);
-                draw_arrow(&mut pixmap, &self.clip, at, d, force_color(), 2.0);
+                draw_arrow(pixmap, &self.clip, at, d, force_color(), 2.0);
             }
         }
-        self.overlay
-            .draw_frame(&mut pixmap, &self.static_layer, frame);
-        pixmap
+        self.overlay.draw_frame(pixmap, &self.static_layer, frame);
     }
 }

@@ -14,6 +14,7 @@ mod frontend;
 pub mod layers;
 mod overrides;
 pub mod raw;
+pub mod swarm;
 mod validate;
 
 use std::path::{Path, PathBuf};
@@ -24,7 +25,7 @@ pub use color::Rgba;
 pub use diagnostic::{Diagnostic, SceneError, Sources};
 pub use frontend::hash_with_overrides;
 pub use layers::Layers;
-pub use validate::{parse, MAX_FRAMES, MAX_IMAGE_SIDE};
+pub use validate::{parse, MAX_BODIES, MAX_FRAMES, MAX_IMAGE_SIDE};
 
 use crate::sim::{ForceSpec, IntegratorKind, Simulation, State, System, Tolerances};
 

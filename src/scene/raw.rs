@@ -65,6 +65,8 @@ pub struct RawScene {
     pub field: Vec<Spanned<super::layers::RawField>>,
     #[serde(default)]
     pub curve: Vec<Spanned<super::layers::RawCurve>>,
+    #[serde(default)]
+    pub swarm: Vec<Spanned<RawSwarm>>,
 }
 
 /// The `[simulation]` table.
@@ -116,6 +118,28 @@ pub struct RawBody {
     pub color: Option<Spanned<String>>,
     pub show_velocity: Option<Spanned<bool>>,
     pub show_force: Option<Spanned<bool>>,
+}
+
+/// One `[[swarm]]`: many bodies alike but for their seeded random initial state.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawSwarm {
+    pub name: Spanned<String>,
+    pub count: Spanned<i64>,
+    pub seed: Option<Spanned<i64>>,
+    pub mass: Spanned<f64>,
+    pub position: Spanned<RawRange>,
+    pub velocity: Option<Spanned<RawRange>>,
+    pub shape: Option<Spanned<RawShape>>,
+    pub color: Option<Spanned<String>>,
+}
+
+/// A rectangle of 2-D vectors, from which a swarm draws values uniformly.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawRange {
+    pub min: Spanned<RawVec2>,
+    pub max: Spanned<RawVec2>,
 }
 
 /// A body's shape: exactly one of the three keys.

@@ -8,7 +8,10 @@ use glam::DVec2;
 use sha2::{Digest, Sha256};
 use toml::Spanned;
 
-use super::raw::{RawBody, RawForce, RawRender, RawScene, RawShape, RawSimulation, RawVec2};
+use super::raw::{
+    RawBody, RawForce, RawRange, RawRender, RawScene, RawShape, RawSimulation, RawSwarm, RawVec2,
+};
+use super::swarm::{member_state, split_member_name, Uniform2};
 use super::{
     Body, CompareRun, Diagnostic, PointMass, RenderSettings, Rgba, Scene, SceneError, Shape,
     SimulationSettings, Source, View,
@@ -19,6 +22,8 @@ use crate::sim::{Anchor, ForceSpec, IntegratorKind, Selection, Tolerances};
 pub const MAX_IMAGE_SIDE: i64 = 16384;
 /// The largest number of frames a scene may ask for.
 pub const MAX_FRAMES: u64 = 1_000_000;
+/// The largest number of bodies a scene may declare, swarms included.
+pub const MAX_BODIES: u64 = 10_000_000;
 /// How close 1/fps must be to a whole number of steps, relative.
 const WHOLE_STEPS_TOLERANCE: f64 = 1e-9;
 
@@ -93,7 +98,7 @@ impl Validator {
             render_raw.and_then(|r| self.render(r.get_ref(), simulation.as_ref(), fps, view));
         // Forces are checked against every body's name, valid or not, so that one bad
         // body does not hide the problems of the forces.
-        let names: Vec<String> = raw
+        let body_names: Vec<String> = raw
             .body
             .iter()
             .enumerate()
@@ -104,12 +109,15 @@ impl Validator {
                     .map_or_else(|| format!("body{i}"), |n| n.get_ref().clone())
             })
             .collect();
+        let (swarms, members) = self.swarms(&raw.swarm, &raw.body, &body_names, view);
+        let names = Names::new(&body_names, &swarms);
         let forces = self.forces(&raw.force, &names);
         let layers = super::layers::LayerCheck {
             text,
             diagnostics: &mut self.diagnostics,
-            bodies: &names,
-            bodies_drawn: !names.is_empty()
+            // Traces name the scene's own bodies, whose indices come before any swarm's.
+            bodies: &body_names,
+            bodies_drawn: names.len() > 0
                 && render_raw
                     .and_then(|r| r.get_ref().show_bodies.as_ref())
                     .is_none_or(|s| *s.get_ref()),
@@ -119,6 +127,16 @@ impl Validator {
         if let (Some(bodies), Some(render)) = (&bodies, &render) {
             self.shapes_fit_the_rasteriser(&raw.body, bodies, render);
         }
+        if let (Some(members), Some(render)) = (&members, &render) {
+            self.swarm_shapes_fit_the_rasteriser(&raw.swarm, &swarms, members, render);
+        }
+        let bodies = match (bodies, members) {
+            (Some(mut bodies), Some(members)) => {
+                bodies.extend(members);
+                Some(bodies)
+            }
+            _ => None,
+        };
         if let (Some(sim), Some(bodies), Some(forces)) = (&simulation, &bodies, &forces) {
             self.exact_exists(raw.simulation.as_ref(), sim, bodies, forces);
         }
@@ -490,6 +508,220 @@ impl Validator {
         ok.then_some(bodies)
     }
 
+    /// Checks every `[[swarm]]` and builds its members, which follow the `[[body]]`
+    /// bodies in file order. Returns the swarms' names and index ranges (for forces,
+    /// even when a member is invalid) and the members.
+    fn swarms(
+        &mut self,
+        raw: &[Spanned<RawSwarm>],
+        raw_bodies: &[Spanned<RawBody>],
+        body_names: &[String],
+        view: Option<View>,
+    ) -> (Vec<SwarmName>, Option<Vec<Body>>) {
+        let mut names = Vec::new();
+        let mut members = Vec::new();
+        let mut ok = true;
+        let mut first = raw_bodies.len() as u64;
+        let default_radius = view.map_or(0.1, |v| 0.015 * (v.max - v.min).min_element());
+        for rs in raw {
+            let s = rs.get_ref();
+            let name = self.swarm_name(&s.name, &names, raw_bodies, body_names);
+            let count = *s.count.get_ref();
+            let count = if count < 1 || first + count as u64 > MAX_BODIES {
+                self.error(
+                    Diagnostic::at(
+                        s.count.span(),
+                        format!("`count` must be from 1 to {}", MAX_BODIES - first),
+                    )
+                    .label(format!("{count} bodies"))
+                    .hint(format!(
+                        "a scene holds at most {MAX_BODIES} bodies, swarms included"
+                    )),
+                );
+                None
+            } else {
+                Some(count as u64)
+            };
+            let seed = match &s.seed {
+                None => Some(0),
+                Some(seed) if *seed.get_ref() >= 0 => Some(*seed.get_ref() as u64),
+                Some(seed) => {
+                    self.error(
+                        Diagnostic::at(seed.span(), "`seed` must be ≥ 0")
+                            .label(format!("{} is negative", seed.get_ref())),
+                    );
+                    None
+                }
+            };
+            let mass = self.positive(&s.mass, "mass");
+            let position = self.range(&s.position, "position");
+            let velocity = match &s.velocity {
+                Some(v) => self.range(v, "velocity"),
+                None => Some(Uniform2 {
+                    min: DVec2::ZERO,
+                    max: DVec2::ZERO,
+                }),
+            };
+            let shape = match &s.shape {
+                Some(shape) => self.shape(shape),
+                None => Some((
+                    Shape::Circle {
+                        radius: default_radius,
+                    },
+                    DVec2::ZERO,
+                )),
+            };
+            let color = match &s.color {
+                Some(c) => self.color(c),
+                None => Some(Rgba::palette(first as usize)),
+            };
+            if let (Some(name), Some(count)) = (&name, count) {
+                names.push(SwarmName {
+                    name: name.clone(),
+                    first: first as u32,
+                    count: count as u32,
+                });
+            }
+            let (
+                Some(name),
+                Some(count),
+                Some(seed),
+                Some(mass),
+                Some(position),
+                Some(velocity),
+                Some((shape, centroid)),
+                Some(color),
+            ) = (name, count, seed, mass, position, velocity, shape, color)
+            else {
+                ok = false;
+                first += count.unwrap_or(0);
+                continue;
+            };
+            members.reserve(count as usize);
+            for i in 0..count {
+                let (r, v) = member_state(seed, i, position, velocity);
+                members.push(Body {
+                    name: format!("{name}{i}"),
+                    mass,
+                    // As for a body, the centre of mass is the drawn position plus the
+                    // shape's centroid (nonzero only for polygons).
+                    position: r + centroid,
+                    velocity: v,
+                    shape: shape.clone(),
+                    color,
+                    show_velocity: false,
+                    show_force: false,
+                });
+            }
+            first += count;
+        }
+        (names, ok.then_some(members))
+    }
+
+    /// Checks a swarm's name: unique, not ending in a digit (so that member names
+    /// of different swarms cannot meet), and clashing with no body.
+    fn swarm_name(
+        &mut self,
+        raw: &Spanned<String>,
+        earlier: &[SwarmName],
+        raw_bodies: &[Spanned<RawBody>],
+        body_names: &[String],
+    ) -> Option<String> {
+        let name = raw.get_ref();
+        let valid = !name.is_empty() && !name.ends_with(|c: char| c.is_ascii_digit());
+        if !valid {
+            self.error(
+                Diagnostic::at(
+                    raw.span(),
+                    format!("swarm name `{name}` cannot name members"),
+                )
+                .label("members are named by appending 0, 1, 2, …")
+                .hint("use a name that does not end in a digit, e.g. \"dust\""),
+            );
+            return None;
+        }
+        if earlier.iter().any(|s| s.name == *name) {
+            self.error(
+                Diagnostic::at(raw.span(), format!("two swarms are named `{name}`"))
+                    .hint("forces select a swarm by its name, so each must be unique"),
+            );
+            return None;
+        }
+        let mut ok = true;
+        for (rb, body) in raw_bodies.iter().zip(body_names) {
+            let clash =
+                body == name || split_member_name(body).is_some_and(|(prefix, _)| prefix == name);
+            if clash {
+                let span = rb.get_ref().name.as_ref().map_or(rb.span(), |n| n.span());
+                self.error(
+                    Diagnostic::at(
+                        span,
+                        format!("body `{body}` has a name that swarm `{name}` uses"),
+                    )
+                    .label("clashes with the swarm or one of its members")
+                    .hint(format!(
+                        "swarm `{name}` names its members {name}0, {name}1, …; rename the body or the swarm"
+                    )),
+                );
+                ok = false;
+            }
+        }
+        ok.then(|| name.clone())
+    }
+
+    /// Rejects swarms whose shape would span more than a million pixels on screen.
+    fn swarm_shapes_fit_the_rasteriser(
+        &mut self,
+        raw: &[Spanned<RawSwarm>],
+        swarms: &[SwarmName],
+        members: &[Body],
+        render: &RenderSettings,
+    ) {
+        let scale = render.view.fit_scale(render.width, render.height);
+        let mut start = 0usize;
+        for (rs, s) in raw.iter().zip(swarms) {
+            let Some(first) = members.get(start) else {
+                return;
+            };
+            let pixels = first.shape.reach() * scale;
+            if pixels > super::MAX_SHAPE_PIXELS {
+                let span = rs.get_ref().shape.as_ref().map_or(rs.span(), |s| s.span());
+                self.error(
+                    Diagnostic::at(
+                        span,
+                        format!(
+                            "the members of swarm `{}` would span {pixels:.3e} pixels",
+                            s.name
+                        ),
+                    )
+                    .label("far larger than the image")
+                    .hint("check the units: the shape is measured in world units, like the view"),
+                );
+            }
+            start += s.count as usize;
+        }
+    }
+
+    /// Checks a rectangle `{ min = [x0, y0], max = [x1, y1] }` with min ≤ max.
+    fn range(&mut self, raw: &Spanned<RawRange>, key: &str) -> Option<Uniform2> {
+        let r = raw.get_ref();
+        let min = self.vec2(&r.min, &format!("{key}.min"));
+        let max = self.vec2(&r.max, &format!("{key}.max"));
+        let (min, max) = (min?, max?);
+        if min.x <= max.x && min.y <= max.y && (max - min).is_finite() {
+            return Some(Uniform2 { min, max });
+        }
+        self.error(
+            Diagnostic::at(raw.span(), format!("`{key}` has min above max"))
+                .label("min must not exceed max on either axis")
+                .hint(format!(
+                    "min = [{}, {}] and max = [{}, {}]",
+                    min.x, min.y, max.x, max.y
+                )),
+        );
+        None
+    }
+
     fn body(&mut self, i: usize, raw: &Spanned<RawBody>, default_radius: f64) -> Option<Body> {
         let b = raw.get_ref();
         let name = b
@@ -672,16 +904,11 @@ impl Validator {
         Some((total, (Shape::Points { points }, centre)))
     }
 
-    fn forces(&mut self, raw: &[Spanned<RawForce>], names: &[String]) -> Option<Vec<ForceSpec>> {
-        let index: HashMap<&str, u32> = names
-            .iter()
-            .enumerate()
-            .map(|(i, name)| (name.as_str(), i as u32))
-            .collect();
+    fn forces(&mut self, raw: &[Spanned<RawForce>], names: &Names) -> Option<Vec<ForceSpec>> {
         let mut forces = Vec::new();
         let mut ok = true;
         for f in raw {
-            match self.force(f, &index) {
+            match self.force(f, names) {
                 Some(force) => forces.push(force),
                 None => ok = false,
             }
@@ -689,7 +916,7 @@ impl Validator {
         ok.then_some(forces)
     }
 
-    fn force(&mut self, raw: &Spanned<RawForce>, index: &HashMap<&str, u32>) -> Option<ForceSpec> {
+    fn force(&mut self, raw: &Spanned<RawForce>, names: &Names) -> Option<ForceSpec> {
         let f = raw.get_ref();
         let kind = f.kind.get_ref().as_str();
         let Some((_, allowed)) = FORCE_KINDS.iter().find(|(k, _)| *k == kind) else {
@@ -713,7 +940,7 @@ impl Validator {
                 stray = true;
             }
         }
-        let bodies = self.selection(f.bodies.as_ref(), index);
+        let bodies = self.selection(f.bodies.as_ref(), names);
         let spec = match kind {
             "gravity" => {
                 let g = match &f.g {
@@ -756,7 +983,7 @@ impl Validator {
                     bodies: bodies?,
                 }
             }
-            "spring" => self.spring(raw, index)?,
+            "spring" => self.spring(raw, names)?,
             "central" => {
                 let centre = f
                     .centre
@@ -775,7 +1002,7 @@ impl Validator {
         (!stray).then_some(spec)
     }
 
-    fn spring(&mut self, raw: &Spanned<RawForce>, index: &HashMap<&str, u32>) -> Option<ForceSpec> {
+    fn spring(&mut self, raw: &Spanned<RawForce>, names: &Names) -> Option<ForceSpec> {
         let f = raw.get_ref();
         let a_raw = self.required(raw, &f.a, "a", "a = \"first-body\"");
         let b_raw = self.required(raw, &f.b, "b", "b = \"other-body\" or b = [0.0, 0.0]");
@@ -790,10 +1017,10 @@ impl Validator {
             .damping
             .as_ref()
             .map_or(Some(0.0), |d| self.non_negative(d, "damping"));
-        let a = a_raw.and_then(|a| self.body_index(a, index));
+        let a = a_raw.and_then(|a| self.body_index(a, names));
         let b = b_raw.and_then(|b| match b.get_ref() {
             toml::Value::String(name) => self
-                .body_index(&Spanned::new(b.span(), name.clone()), index)
+                .body_index(&Spanned::new(b.span(), name.clone()), names)
                 .map(Anchor::Body),
             toml::Value::Array(items) => {
                 let xy: Vec<f64> = items
@@ -838,7 +1065,7 @@ impl Validator {
     fn selection(
         &mut self,
         raw: Option<&Spanned<Vec<Spanned<String>>>>,
-        index: &HashMap<&str, u32>,
+        names: &Names,
     ) -> Option<Selection> {
         let Some(raw) = raw else {
             return Some(Selection::All);
@@ -853,34 +1080,80 @@ impl Validator {
             );
             return None;
         }
-        let mut list = Vec::new();
+        // Each name selects one body or a whole swarm; the indices are gathered, then
+        // sorted, so that a body named twice (itself, or through its swarm) is found.
+        let mut picked: Vec<(u32, usize)> = Vec::new();
         let mut ok = true;
-        for name in raw.get_ref() {
-            match self.body_index(name, index) {
-                Some(i) if list.contains(&i) => {
-                    self.error(
-                        Diagnostic::at(
-                            name.span(),
-                            format!("`{}` is listed twice", name.get_ref()),
-                        )
-                        .hint("a force acts once on each body it names"),
-                    );
+        for (k, name) in raw.get_ref().iter().enumerate() {
+            match names.resolve(name.get_ref()) {
+                Some(Target::Body(i)) => picked.push((i, k)),
+                Some(Target::Swarm(range)) => picked.extend(range.map(|i| (i, k))),
+                None => {
+                    self.unknown_body(name, names);
                     ok = false;
                 }
-                Some(i) => list.push(i),
-                None => ok = false,
             }
         }
-        list.sort_unstable();
-        ok.then_some(Selection::Bodies(list))
+        picked.sort_unstable();
+        for pair in picked.windows(2) {
+            if pair[0].0 == pair[1].0 {
+                let name = &raw.get_ref()[pair[1].1.max(pair[0].1)];
+                self.error(
+                    Diagnostic::at(
+                        name.span(),
+                        format!(
+                            "`{}` selects body `{}` a second time",
+                            name.get_ref(),
+                            names.name_of(pair[0].0)
+                        ),
+                    )
+                    .hint("a force acts once on each body it names (a swarm's name selects all its members)"),
+                );
+                ok = false;
+                break;
+            }
+        }
+        let list: Vec<u32> = picked.into_iter().map(|(i, _)| i).collect();
+        ok.then(|| Selection::from_sorted(list, names.len()))
     }
 
-    fn body_index(&mut self, name: &Spanned<String>, index: &HashMap<&str, u32>) -> Option<u32> {
-        if let Some(i) = index.get(name.get_ref().as_str()) {
-            return Some(*i);
+    fn body_index(&mut self, name: &Spanned<String>, names: &Names) -> Option<u32> {
+        match names.resolve(name.get_ref()) {
+            Some(Target::Body(i)) => Some(i),
+            Some(Target::Swarm(range)) => {
+                self.error(
+                    Diagnostic::at(
+                        name.span(),
+                        format!(
+                            "`{}` is a swarm of {} bodies, not one body",
+                            name.get_ref(),
+                            range.len()
+                        ),
+                    )
+                    .label("a swarm")
+                    .hint(format!("name one member, e.g. `{}0`", name.get_ref())),
+                );
+                None
+            }
+            None => {
+                self.unknown_body(name, names);
+                None
+            }
         }
-        let mut known: Vec<&str> = index.keys().copied().collect();
+    }
+
+    fn unknown_body(&mut self, name: &Spanned<String>, names: &Names) {
+        let mut known: Vec<String> = names.bodies.keys().map(|k| k.to_string()).collect();
         known.sort_unstable();
+        for s in names.swarms {
+            known.push(format!(
+                "{} (a swarm: {}0 to {}{})",
+                s.name,
+                s.name,
+                s.name,
+                s.count - 1
+            ));
+        }
         let hint = if known.is_empty() {
             "the scene declares no body".to_string()
         } else {
@@ -894,7 +1167,6 @@ impl Validator {
             .label("unknown body")
             .hint(hint),
         );
-        None
     }
 
     fn required<'a, T>(
@@ -971,6 +1243,72 @@ impl Validator {
                 .label(format!("[{x}, {y}] is not finite")),
         );
         None
+    }
+}
+
+/// A swarm's name and the indices of its members: first ..first + count.
+struct SwarmName {
+    name: String,
+    first: u32,
+    count: u32,
+}
+
+/// What a name in a force selects.
+enum Target {
+    Body(u32),
+    Swarm(std::ops::Range<u32>),
+}
+
+/// Resolves the names forces use: a body's, a swarm's, or a swarm member's
+/// (`dust17`). Members are found by parsing their number, so a swarm of a million
+/// bodies costs no table of a million names.
+struct Names<'a> {
+    bodies: HashMap<&'a str, u32>,
+    swarms: &'a [SwarmName],
+    len: usize,
+}
+
+impl<'a> Names<'a> {
+    fn new(body_names: &'a [String], swarms: &'a [SwarmName]) -> Self {
+        let bodies = body_names
+            .iter()
+            .enumerate()
+            .map(|(i, name)| (name.as_str(), i as u32))
+            .collect();
+        let len = body_names.len() + swarms.iter().map(|s| s.count as usize).sum::<usize>();
+        Names {
+            bodies,
+            swarms,
+            len,
+        }
+    }
+
+    /// Returns the number of bodies, swarm members included.
+    fn len(&self) -> usize {
+        self.len
+    }
+
+    fn resolve(&self, name: &str) -> Option<Target> {
+        if let Some(i) = self.bodies.get(name) {
+            return Some(Target::Body(*i));
+        }
+        if let Some(s) = self.swarms.iter().find(|s| s.name == name) {
+            return Some(Target::Swarm(s.first..s.first + s.count));
+        }
+        let (prefix, k) = split_member_name(name)?;
+        let s = self.swarms.iter().find(|s| s.name == prefix)?;
+        (k < u64::from(s.count)).then(|| Target::Body(s.first + k as u32))
+    }
+
+    /// Returns the name of body `i`, for messages.
+    fn name_of(&self, i: u32) -> String {
+        if let Some((name, _)) = self.bodies.iter().find(|(_, j)| **j == i) {
+            return name.to_string();
+        }
+        self.swarms
+            .iter()
+            .find(|s| (s.first..s.first + s.count).contains(&i))
+            .map_or_else(|| format!("#{i}"), |s| format!("{}{}", s.name, i - s.first))
     }
 }
 

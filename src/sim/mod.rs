@@ -16,7 +16,7 @@ pub mod integrators;
 pub mod scalar_ode;
 mod simulation;
 pub mod stability;
-mod system;
+pub mod system;
 
 pub use forces::{Anchor, ForceSpec, Selection};
 pub use integrators::{Integrator, IntegratorKind, Stepper, Tolerances};

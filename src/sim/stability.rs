@@ -8,7 +8,7 @@
 //! stable while |R(z)| ≤ 1. For explicit Euler R(z) = 1 + z, so drag needs h·k/m ≤ 2
 //! and the spring, |1 + i·h·ω| > 1, is never stable.
 
-use super::{Anchor, ForceSpec, IntegratorKind, Selection};
+use super::{Anchor, ForceSpec, IntegratorKind};
 
 /// Returns the largest h·k/m for which the method is stable on linear drag (the
 /// stability interval on the negative real axis), when theory gives one.
@@ -59,13 +59,7 @@ pub fn stable_step_hint(
     for f in forces {
         match f {
             ForceSpec::Drag { k, bodies } => {
-                let add = |i: usize, rate: &mut Vec<f64>| rate[i] += k / masses[i];
-                match bodies {
-                    Selection::All => (0..n).for_each(|i| add(i, &mut drag_rate)),
-                    Selection::Bodies(list) => {
-                        list.iter().for_each(|&i| add(i as usize, &mut drag_rate))
-                    }
-                }
+                bodies.for_each(n, |i| drag_rate[i] += k / masses[i]);
             }
             ForceSpec::Spring {
                 a, b, stiffness, ..
@@ -124,6 +118,7 @@ pub fn stable_step_hint(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sim::Selection;
 
     #[test]
     fn rk4_real_axis_limit_is_where_the_amplification_reaches_one() {

@@ -1,8 +1,25 @@
 //! The system of equations the integrators solve, and the state they advance.
 
-use glam::DVec2;
+use std::sync::atomic::{AtomicU8, AtomicUsize, Ordering};
 
-use super::forces::{ForceSet, ForceSpec};
+use glam::DVec2;
+use rayon::prelude::*;
+
+use super::forces::{ForceSet, ForceSpec, Masses, LANES};
+
+/// Bodies per chunk of the per-body loops: 512 bodies keep a chunk's positions,
+/// velocities and accelerations (8 KiB each) in the L1 cache between computing the
+/// forces and using them.
+pub const CHUNK: usize = 512;
+
+/// Bodies per task when the per-body loops are split across threads: large enough that
+/// scheduling a task costs little beside it.
+pub const BLOCK: usize = 32 * CHUNK;
+
+/// The fewest bodies for which the per-body loops are split across threads; below it
+/// they run on the calling thread. Each body's update is independent of the others',
+/// so splitting gives the same bits for any number of threads.
+pub const PARALLEL_MIN: usize = 4 * BLOCK;
 
 /// The state of every body at one instant: the article's r and v (Equations 1 and 2),
 /// for each body's centre of mass, in flat arrays indexed by body.
@@ -17,6 +34,18 @@ pub struct State {
 }
 
 impl State {
+    /// Returns true when every position and velocity is finite. One pass over the flat
+    /// arrays, split across threads for many bodies.
+    pub fn is_finite(&self) -> bool {
+        if self.len() < PARALLEL_MIN {
+            return all_finite(&self.pos, &self.vel);
+        }
+        self.pos
+            .par_chunks(BLOCK)
+            .zip(self.vel.par_chunks(BLOCK))
+            .all(|(p, v)| all_finite(p, v))
+    }
+
     /// Returns the number of bodies.
     pub fn len(&self) -> usize {
         self.pos.len()
@@ -30,11 +59,32 @@ impl State {
 
 /// The masses of the bodies and the forces on them: everything needed to compute
 /// accelerations from a state. Fixed for the length of a run.
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct System {
     mass: Vec<f64>,
     inv_mass: Vec<f64>,
+    /// The mass every body has, when all are equal (and its inverse): then the hot
+    /// loops read no mass array.
+    uniform_mass: Option<(f64, f64)>,
     forces: ForceSet,
+    /// Left by a step that checked, as it wrote them, that the positions and
+    /// velocities it wrote are finite: the address of those positions, or 0. The check
+    /// after the step takes it instead of reading the whole state again
+    /// ([`System::take_finite_step`]).
+    finite_step: AtomicUsize,
+}
+
+impl Clone for System {
+    fn clone(&self) -> Self {
+        System {
+            mass: self.mass.clone(),
+            inv_mass: self.inv_mass.clone(),
+            uniform_mass: self.uniform_mass,
+            forces: self.forces.clone(),
+            // A record belongs to the state its step wrote, not to a copy.
+            finite_step: AtomicUsize::new(0),
+        }
+    }
 }
 
 impl System {
@@ -44,12 +94,18 @@ impl System {
     /// every body index named by a force must be below `mass.len()`.
     pub fn new(mass: Vec<f64>, forces: &[ForceSpec]) -> Self {
         debug_assert!(mass.iter().all(|m| m.is_finite() && *m > 0.0));
-        let inv_mass = mass.iter().map(|m| 1.0 / m).collect();
+        let inv_mass: Vec<f64> = mass.iter().map(|m| 1.0 / m).collect();
+        let uniform_mass = match mass.first() {
+            Some(&m) if mass.iter().all(|x| x.to_bits() == m.to_bits()) => Some((m, inv_mass[0])),
+            _ => None,
+        };
         let forces = ForceSet::new(forces, mass.len());
         System {
             mass,
             inv_mass,
+            uniform_mass,
             forces,
+            finite_step: AtomicUsize::new(0),
         }
     }
 
@@ -73,25 +129,211 @@ impl System {
         &self.forces
     }
 
+    /// Returns true when each body's acceleration depends only on its own position and
+    /// velocity and the time (no spring couples two bodies), so that a step can compute
+    /// and apply accelerations chunk by chunk with [`System::accelerations_of`].
+    pub fn is_per_body(&self) -> bool {
+        !self.forces.has_springs()
+    }
+
+    /// Records whether the step that just wrote `pos` (and its velocities) found every
+    /// value it wrote finite, as it wrote them.
+    pub fn record_finite_step(&self, pos: &[DVec2], finite: bool) {
+        let mark = if finite { pos.as_ptr() as usize } else { 0 };
+        self.finite_step.store(mark, Ordering::Relaxed);
+    }
+
+    /// Returns true when the last step recorded that the positions `pos` and their
+    /// velocities, which it wrote, are all finite; forgets the record either way, so it
+    /// vouches for one check only. False means "not known", not "not finite".
+    pub fn take_finite_step(&self, pos: &[DVec2]) -> bool {
+        let mark = self.finite_step.swap(0, Ordering::Relaxed);
+        mark != 0 && mark == pos.as_ptr() as usize
+    }
+
+    /// Returns the masses of every body, in the form the force loops read.
+    fn masses_view(&self) -> Masses<'_> {
+        match self.uniform_mass {
+            Some((m, inv)) => Masses::Uniform { m, inv },
+            None => Masses::PerBody {
+                m: &self.mass,
+                inv: &self.inv_mass,
+            },
+        }
+    }
+
     /// Writes the net force on every body at time `t` into `force`.
     ///
     /// This is the sum F_T of Equation 11: every force on a body acts at its centre of
     /// mass, whatever point of the body it is applied to.
     pub fn net_forces(&self, t: f64, pos: &[DVec2], vel: &[DVec2], force: &mut [DVec2]) {
-        debug_assert_eq!(pos.len(), self.len());
-        debug_assert_eq!(vel.len(), self.len());
-        debug_assert_eq!(force.len(), self.len());
-        force.fill(DVec2::ZERO);
-        self.forces.accumulate(t, pos, vel, &self.mass, force);
+        self.forces_or_accelerations(t, pos, vel, force, false);
     }
 
     /// Writes the acceleration of every body's centre of mass at time `t` into `acc`.
     ///
     /// Equation 11, solved for the acceleration: a_CM = F_T / M.
     pub fn accelerations(&self, t: f64, pos: &[DVec2], vel: &[DVec2], acc: &mut [DVec2]) {
-        self.net_forces(t, pos, vel, acc);
-        for (a, inv_m) in acc.iter_mut().zip(&self.inv_mass) {
-            *a *= *inv_m;
+        self.forces_or_accelerations(t, pos, vel, acc, true);
+    }
+
+    /// Writes the accelerations a = F_T/M (Equation 11) at time `t` of the chunk of
+    /// bodies `start..start + acc.len()`, whose positions and velocities are `pos` and
+    /// `vel`. Valid only when [`System::is_per_body`]; the result is the same, to the
+    /// bit, as the chunk's part of [`System::accelerations`].
+    #[inline(always)]
+    pub fn accelerations_of(
+        &self,
+        t: f64,
+        start: usize,
+        pos: &[DVec2],
+        vel: &[DVec2],
+        acc: &mut [DVec2],
+    ) {
+        debug_assert!(self.is_per_body());
+        debug_assert!(pos.len() == acc.len() && vel.len() == acc.len());
+        let mass = self.masses_view().chunk(start, acc.len());
+        acc.fill(DVec2::ZERO);
+        self.forces
+            .accumulate_before_springs(t, start, vel, mass, acc);
+        self.forces.accumulate_after_springs(start, pos, mass, acc);
+        divide_by_mass(mass, acc);
+    }
+
+    /// Calls `update(r, v, a)` for every body of the chunk `start..start + pos.len()`,
+    /// in order, with its position, velocity and acceleration a = F/m (Equation 11)
+    /// at time `t`: what an integrator that moves each body on its own needs, computed
+    /// while the chunk is in cache. Every acceleration of a group of bodies is computed
+    /// before `update` changes them, and each `update` may change only its own body.
+    /// Valid only when [`System::is_per_body`]; the accelerations are, to the bit,
+    /// those of [`System::accelerations`].
+    #[inline(always)]
+    pub fn for_each_acceleration(
+        &self,
+        t: f64,
+        start: usize,
+        pos: &mut [DVec2],
+        vel: &mut [DVec2],
+        update: impl FnMut(&mut DVec2, &mut DVec2, DVec2),
+    ) {
+        debug_assert!(self.is_per_body());
+        debug_assert!(pos.len() == vel.len() && pos.len() <= CHUNK);
+        let len = pos.len();
+        if !self.forces.acts_on_whole_chunk(start, len) {
+            self.for_each_acceleration_by_family(t, start, pos, vel, update);
+            return;
+        }
+        // Every force acts on every body here: sum a few bodies at a time, in
+        // registers, with the mass lookup chosen once for the chunk.
+        match self.masses_view().chunk(start, len) {
+            Masses::Uniform { m, inv } => {
+                self.for_each_acceleration_in_lanes(t, pos, vel, |_| m, |_| inv, update)
+            }
+            Masses::PerBody { m, inv } => {
+                self.for_each_acceleration_in_lanes(t, pos, vel, |i| m[i], |i| inv[i], update)
+            }
+        }
+    }
+
+    /// The body-by-body part of [`System::for_each_acceleration`], for a chunk where
+    /// every force acts on every body; `m(i)` and `inv(i)` give body i's mass and 1/m.
+    #[inline(always)]
+    fn for_each_acceleration_in_lanes(
+        &self,
+        t: f64,
+        pos: &mut [DVec2],
+        vel: &mut [DVec2],
+        m: impl Fn(usize) -> f64,
+        inv: impl Fn(usize) -> f64,
+        mut update: impl FnMut(&mut DVec2, &mut DVec2, DVec2),
+    ) {
+        let len = pos.len();
+        let mut r_lanes = pos.chunks_exact_mut(LANES);
+        let mut v_lanes = vel.chunks_exact_mut(LANES);
+        for (k, (r, v)) in (&mut r_lanes).zip(&mut v_lanes).enumerate() {
+            let i = k * LANES;
+            let rr: [DVec2; LANES] = std::array::from_fn(|j| r[j]);
+            let vv: [DVec2; LANES] = std::array::from_fn(|j| v[j]);
+            let mm: [f64; LANES] = std::array::from_fn(|j| m(i + j));
+            let f = self.forces.forces_on(t, &rr, &vv, &mm);
+            for j in 0..LANES {
+                // a = F·(1/m).
+                update(&mut r[j], &mut v[j], f[j] * inv(i + j));
+            }
+        }
+        let done = len - len % LANES;
+        for (j, (r, v)) in r_lanes
+            .into_remainder()
+            .iter_mut()
+            .zip(v_lanes.into_remainder())
+            .enumerate()
+        {
+            let i = done + j;
+            let f = self.forces.forces_on(t, &[*r], &[*v], &[m(i)]);
+            // a = F·(1/m).
+            update(r, v, f[0] * inv(i));
+        }
+    }
+
+    /// The family-by-family part of [`System::for_each_acceleration`], for a chunk
+    /// where some force acts on only part of it.
+    #[inline(never)]
+    fn for_each_acceleration_by_family(
+        &self,
+        t: f64,
+        start: usize,
+        pos: &mut [DVec2],
+        vel: &mut [DVec2],
+        mut update: impl FnMut(&mut DVec2, &mut DVec2, DVec2),
+    ) {
+        let mut buffer = [DVec2::ZERO; CHUNK];
+        let acc = &mut buffer[..pos.len()];
+        self.accelerations_of(t, start, pos, vel, acc);
+        for ((r, v), a) in pos.iter_mut().zip(vel.iter_mut()).zip(acc.iter()) {
+            update(r, v, *a);
+        }
+    }
+
+    /// Computes forces, or accelerations when `divide`, chunk by chunk; chunks are
+    /// split across threads for many bodies. Springs couple bodies, so they are added
+    /// on one thread, in file order, between the families summed before and after them.
+    fn forces_or_accelerations(
+        &self,
+        t: f64,
+        pos: &[DVec2],
+        vel: &[DVec2],
+        out: &mut [DVec2],
+        divide: bool,
+    ) {
+        debug_assert_eq!(pos.len(), self.len());
+        debug_assert_eq!(vel.len(), self.len());
+        debug_assert_eq!(out.len(), self.len());
+        let masses = self.masses_view();
+        let springs = self.forces.has_springs();
+        let before = |start: usize, out: &mut [DVec2]| {
+            let mass = masses.chunk(start, out.len());
+            let vel = &vel[start..start + out.len()];
+            out.fill(DVec2::ZERO);
+            self.forces
+                .accumulate_before_springs(t, start, vel, mass, out);
+        };
+        let after = |start: usize, out: &mut [DVec2]| {
+            let mass = masses.chunk(start, out.len());
+            let pos = &pos[start..start + out.len()];
+            self.forces.accumulate_after_springs(start, pos, mass, out);
+            if divide {
+                divide_by_mass(mass, out);
+            }
+        };
+        if springs {
+            for_each_chunk(out, before);
+            self.forces.accumulate_springs(pos, vel, out);
+            for_each_chunk(out, after);
+        } else {
+            for_each_chunk(out, |start, out| {
+                before(start, out);
+                after(start, out);
+            });
         }
     }
 
@@ -115,5 +357,164 @@ impl System {
     /// (drag, time-varying forces), so that energy is not a conserved quantity.
     pub fn potential_energy(&self, t: f64, pos: &[DVec2]) -> Option<f64> {
         self.forces.potential_energy(t, pos, &self.mass)
+    }
+}
+
+/// Divides each force of a chunk by its body's mass: a = F/m, as F·(1/m).
+#[inline(always)]
+fn divide_by_mass(mass: Masses<'_>, acc: &mut [DVec2]) {
+    match mass {
+        Masses::Uniform { inv, .. } => {
+            for a in acc {
+                // a = F·(1/m).
+                *a *= inv;
+            }
+        }
+        Masses::PerBody { inv, .. } => {
+            for (a, inv_m) in acc.iter_mut().zip(inv) {
+                // a = F·(1/m).
+                *a *= *inv_m;
+            }
+        }
+    }
+}
+
+/// Calls `f(start, chunk)` for consecutive chunks of at most [`CHUNK`] bodies of `out`,
+/// split across threads in blocks of [`BLOCK`] when there are [`PARALLEL_MIN`] bodies or
+/// more. `f` must touch only its own chunk, so the result does not depend on threads.
+pub fn for_each_chunk(out: &mut [DVec2], f: impl Fn(usize, &mut [DVec2]) + Sync) {
+    let run = |start: usize, block: &mut [DVec2]| {
+        for (k, chunk) in block.chunks_mut(CHUNK).enumerate() {
+            f(start + k * CHUNK, chunk);
+        }
+    };
+    if out.len() < PARALLEL_MIN {
+        run(0, out);
+    } else {
+        out.par_chunks_mut(BLOCK)
+            .enumerate()
+            .for_each(|(b, block)| run(b * BLOCK, block));
+    }
+}
+
+/// Like [`for_each_chunk`] over the positions and velocities together: calls
+/// `f(start, pos, vel)` for matching chunks of both, for integrators that update each
+/// body on its own. Returns true when every call returned true.
+pub fn for_each_chunk_pair(
+    pos: &mut [DVec2],
+    vel: &mut [DVec2],
+    f: impl Fn(usize, &mut [DVec2], &mut [DVec2]) -> bool + Sync,
+) -> bool {
+    debug_assert_eq!(pos.len(), vel.len());
+    let run = |start: usize, pos: &mut [DVec2], vel: &mut [DVec2]| {
+        let mut all = true;
+        for (k, (p, v)) in pos.chunks_mut(CHUNK).zip(vel.chunks_mut(CHUNK)).enumerate() {
+            all &= f(start + k * CHUNK, p, v);
+        }
+        all
+    };
+    if pos.len() < PARALLEL_MIN {
+        run(0, pos, vel)
+    } else {
+        pos.par_chunks_mut(BLOCK)
+            .zip(vel.par_chunks_mut(BLOCK))
+            .enumerate()
+            .map(|(b, (p, v))| run(b * BLOCK, p, v))
+            .reduce(|| true, |a, b| a && b)
+    }
+}
+
+/// Returns true when every component of `pos` and `vel` is finite.
+///
+/// 0·x is ±0 for a finite x and NaN for an infinite or NaN one, and a sum of zeros and
+/// NaNs is NaN as soon as one term is: so the sums below are finite exactly when every
+/// number is. Four independent sums let the loop run on vector registers.
+pub fn all_finite(pos: &[DVec2], vel: &[DVec2]) -> bool {
+    debug_assert_eq!(pos.len(), vel.len());
+    #[cfg(target_arch = "x86_64")]
+    if wide_vectors() {
+        #[target_feature(enable = "avx2")]
+        unsafe fn wide(pos: &[DVec2], vel: &[DVec2]) -> bool {
+            all_finite_kernel(pos, vel)
+        }
+        // SAFETY: `wide_vectors` has checked that this processor has AVX2.
+        return unsafe { wide(pos, vel) };
+    }
+    all_finite_kernel(pos, vel)
+}
+
+/// The loop of [`all_finite`], to inline into loops compiled for wider registers.
+#[inline(always)]
+pub fn all_finite_kernel(pos: &[DVec2], vel: &[DVec2]) -> bool {
+    let mut sums = [DVec2::ZERO; 4];
+    let mut p4 = pos.chunks_exact(4);
+    let mut v4 = vel.chunks_exact(4);
+    for (p, v) in (&mut p4).zip(&mut v4) {
+        for j in 0..4 {
+            // 0·x: ±0 when x is finite, NaN otherwise.
+            sums[j] += p[j] * 0.0 + v[j] * 0.0;
+        }
+    }
+    for (p, v) in p4.remainder().iter().zip(v4.remainder()) {
+        sums[0] += *p * 0.0 + *v * 0.0;
+    }
+    (sums[0] + sums[1] + sums[2] + sums[3]).is_finite()
+}
+
+/// Returns true only when every component of `pos` and `vel` is finite, by one sum of
+/// them all: a sum is finite only if every term is (an infinity or NaN stays one). A
+/// false answer means that some value is not finite or that the sum overflowed, which
+/// [`all_finite`] can then tell apart. Cheaper than `all_finite`, for data in cache.
+#[inline(always)]
+pub fn sum_is_finite(pos: &[DVec2], vel: &[DVec2]) -> bool {
+    let mut sums = [DVec2::ZERO; 4];
+    let mut p4 = pos.chunks_exact(4);
+    let mut v4 = vel.chunks_exact(4);
+    for (p, v) in (&mut p4).zip(&mut v4) {
+        for j in 0..4 {
+            sums[j] += p[j] + v[j];
+        }
+    }
+    for (p, v) in p4.remainder().iter().zip(v4.remainder()) {
+        sums[0] += *p + *v;
+    }
+    (sums[0] + sums[1] + sums[2] + sums[3]).is_finite()
+}
+
+/// Whether the hot loops may use 256-bit AVX2 registers: 0 not yet known, 1 yes, 2 no.
+static WIDE_VECTORS: AtomicU8 = AtomicU8::new(0);
+
+/// Returns true when the hot loops run their AVX2 versions: when the processor has
+/// AVX2, unless [`use_wide_vectors`] turned them off. The same arithmetic runs either
+/// way (Rust never fuses a multiply and an add), so only the speed differs, not the
+/// bits.
+#[inline]
+pub fn wide_vectors() -> bool {
+    match WIDE_VECTORS.load(Ordering::Relaxed) {
+        1 => true,
+        2 => false,
+        _ => {
+            let wide = detect_avx2();
+            WIDE_VECTORS.store(if wide { 1 } else { 2 }, Ordering::Relaxed);
+            wide
+        }
+    }
+}
+
+/// Turns the AVX2 versions of the hot loops on (where the processor has AVX2) or off,
+/// for tests and measurements that compare the two.
+pub fn use_wide_vectors(enabled: bool) {
+    let wide = enabled && detect_avx2();
+    WIDE_VECTORS.store(if wide { 1 } else { 2 }, Ordering::Relaxed);
+}
+
+fn detect_avx2() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
     }
 }

@@ -8,6 +8,7 @@ mod diagnostics;
 mod figures;
 mod golden;
 mod integrators;
+mod perf;
 mod properties;
 mod render_cli;
 mod resume;

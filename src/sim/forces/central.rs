@@ -2,7 +2,7 @@
 
 use glam::DVec2;
 
-use super::Selection;
+use super::{Masses, Selection, Within};
 
 /// F = -μ·m·(r - c)/|r - c|³: an attraction towards the centre c whose magnitude falls
 /// with the square of the distance, μ·m/|r - c|². Like gravity, the acceleration it
@@ -20,17 +20,23 @@ pub struct Central {
 }
 
 impl Central {
-    /// Adds F = -μ·m·(r - c)/|r - c|³ to every selected body.
-    #[inline]
-    pub fn accumulate(&self, pos: &[DVec2], mass: &[f64], force: &mut [DVec2]) {
-        self.bodies.for_each(force.len(), |i| {
+    /// Adds F = -μ·m·(r - c)/|r - c|³ to every selected body among the chunk of
+    /// bodies `start..start + force.len()`, whose positions are `pos` and masses `mass`.
+    #[inline(always)]
+    pub fn accumulate(&self, start: usize, pos: &[DVec2], mass: Masses<'_>, force: &mut [DVec2]) {
+        let one = |i: usize, force: &mut [DVec2]| {
             let d = pos[i] - self.centre;
             let r2 = d.length_squared();
             if r2 > 0.0 {
+                // F = -μ·m·(r - c)/|r - c|³, with 1/|r - c|³ = 1/(r²·√r²).
                 let inv_r3 = 1.0 / (r2 * r2.sqrt());
-                force[i] -= self.strength * mass[i] * inv_r3 * d;
+                force[i] -= self.strength * mass.m(i) * inv_r3 * d;
             }
-        });
+        };
+        match self.bodies.within(start, force.len()) {
+            Within::Run(run) => run.for_each(|i| one(i, force)),
+            Within::List(list) => list.iter().for_each(|&i| one(i as usize - start, force)),
+        }
     }
 
     /// Returns the potential energy U = -Σ μ·m/|r - c|.

@@ -2,7 +2,7 @@
 
 use glam::DVec2;
 
-use super::Selection;
+use super::{Masses, Selection, Within};
 
 /// Uniform gravity, F = m·g, so that every body falls with the same acceleration g.
 #[derive(Clone, Debug, PartialEq)]
@@ -14,16 +14,31 @@ pub struct Gravity {
 }
 
 impl Gravity {
-    /// Adds F = m·g to every selected body.
-    #[inline]
-    pub fn accumulate(&self, mass: &[f64], force: &mut [DVec2]) {
-        match &self.bodies {
-            Selection::All => {
-                for (f, m) in force.iter_mut().zip(mass) {
+    /// Adds F = m·g to every selected body among the chunk of bodies `start..start +
+    /// force.len()`, whose masses are `mass`.
+    #[inline(always)]
+    pub fn accumulate(&self, start: usize, mass: Masses<'_>, force: &mut [DVec2]) {
+        match (self.bodies.within(start, force.len()), mass) {
+            (Within::Run(run), Masses::Uniform { m, .. }) => {
+                // F = m·g, the same for every body of equal mass.
+                let f_g = m * self.g;
+                for f in &mut force[run] {
+                    *f += f_g;
+                }
+            }
+            (Within::Run(run), Masses::PerBody { m, .. }) => {
+                for (f, m) in force[run.clone()].iter_mut().zip(&m[run]) {
+                    // F = m·g.
                     *f += *m * self.g;
                 }
             }
-            sel => sel.for_each(force.len(), |i| force[i] += mass[i] * self.g),
+            (Within::List(list), _) => {
+                for &i in list {
+                    let i = i as usize - start;
+                    // F = m·g.
+                    force[i] += mass.m(i) * self.g;
+                }
+            }
         }
     }
 

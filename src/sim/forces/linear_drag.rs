@@ -2,7 +2,7 @@
 
 use glam::DVec2;
 
-use super::Selection;
+use super::{Selection, Within};
 
 /// Linear drag, F = -k·v: a force opposing the velocity and proportional to it. The
 /// article's example F = -v is k = 1; with it dv/dt = -k·v/m (Equation 12), whose exact
@@ -16,16 +16,24 @@ pub struct LinearDrag {
 }
 
 impl LinearDrag {
-    /// Adds F = -k·v to every selected body.
-    #[inline]
-    pub fn accumulate(&self, vel: &[DVec2], force: &mut [DVec2]) {
-        match &self.bodies {
-            Selection::All => {
-                for (f, v) in force.iter_mut().zip(vel) {
+    /// Adds F = -k·v to every selected body among the chunk of bodies `start..start +
+    /// force.len()`, whose velocities are `vel`.
+    #[inline(always)]
+    pub fn accumulate(&self, start: usize, vel: &[DVec2], force: &mut [DVec2]) {
+        match self.bodies.within(start, force.len()) {
+            Within::Run(run) => {
+                for (f, v) in force[run.clone()].iter_mut().zip(&vel[run]) {
+                    // F = -k·v.
                     *f -= self.k * *v;
                 }
             }
-            sel => sel.for_each(force.len(), |i| force[i] -= self.k * vel[i]),
+            Within::List(list) => {
+                for &i in list {
+                    let i = i as usize - start;
+                    // F = -k·v.
+                    force[i] -= self.k * vel[i];
+                }
+            }
         }
     }
 }

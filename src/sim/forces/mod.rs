@@ -21,21 +21,60 @@ pub use quadratic_drag::QuadraticDrag;
 pub use spring::Spring;
 pub use time_varying::TimeVarying;
 
+/// Bodies whose forces are summed at once in the per-body loops (see
+/// [`ForceSet::forces_on`]).
+pub const LANES: usize = 8;
+
 /// Which bodies a force acts on.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Selection {
     /// Every body in the scene.
     All,
+    /// The bodies with indices start..end (a swarm, say): a contiguous run, which the
+    /// force loops walk without an index list, so that they vectorise.
+    Range { start: u32, end: u32 },
     /// The bodies with these indices, each at most once, in increasing order.
     Bodies(Vec<u32>),
 }
 
 impl Selection {
+    /// Builds the selection of the bodies listed, each at most once, in increasing
+    /// order, among `n` bodies: `All` when every body is listed, `Range` when they are
+    /// contiguous, and the list otherwise. All three act on the same bodies in the same
+    /// order, so the choice changes speed, not results.
+    pub fn from_sorted(list: Vec<u32>, n: usize) -> Self {
+        debug_assert!(list.windows(2).all(|w| w[0] < w[1]));
+        match (list.first(), list.last()) {
+            (Some(&start), Some(&last)) if (last - start) as usize + 1 == list.len() => {
+                if start == 0 && list.len() == n {
+                    Selection::All
+                } else {
+                    Selection::Range {
+                        start,
+                        end: last + 1,
+                    }
+                }
+            }
+            _ => Selection::Bodies(list),
+        }
+    }
+
+    /// Returns the contiguous run of bodies selected among `n`, if the selection is one.
+    #[inline]
+    pub fn as_range(&self, n: usize) -> Option<std::ops::Range<usize>> {
+        match self {
+            Selection::All => Some(0..n),
+            Selection::Range { start, end } => Some(*start as usize..*end as usize),
+            Selection::Bodies(_) => None,
+        }
+    }
+
     /// Calls `f` with the index of every selected body, in increasing order.
     #[inline]
     pub fn for_each(&self, n: usize, mut f: impl FnMut(usize)) {
         match self {
             Selection::All => (0..n).for_each(f),
+            Selection::Range { start, end } => (*start as usize..*end as usize).for_each(f),
             Selection::Bodies(list) => list.iter().for_each(|&i| f(i as usize)),
         }
     }
@@ -44,7 +83,82 @@ impl Selection {
     pub fn contains(&self, i: usize) -> bool {
         match self {
             Selection::All => true,
+            Selection::Range { start, end } => (*start as usize..*end as usize).contains(&i),
             Selection::Bodies(list) => list.binary_search(&(i as u32)).is_ok(),
+        }
+    }
+}
+
+/// The selected bodies within a chunk of bodies `start..start + len`.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Within<'a> {
+    /// A contiguous run, as indices relative to the chunk's start: the loop over it
+    /// walks flat slices and vectorises.
+    Run(std::ops::Range<usize>),
+    /// The selected bodies' indices in the chunk, in increasing order; indices are
+    /// the scene's, not relative to the chunk.
+    List(&'a [u32]),
+}
+
+impl Selection {
+    /// Returns the selected bodies within the chunk `start..start + len`.
+    #[inline(always)]
+    pub fn within(&self, start: usize, len: usize) -> Within<'_> {
+        let end = start + len;
+        match self {
+            Selection::All => Within::Run(0..len),
+            Selection::Range { start: a, end: b } => {
+                let a = (*a as usize).clamp(start, end);
+                let b = (*b as usize).clamp(a, end);
+                Within::Run(a - start..b - start)
+            }
+            Selection::Bodies(list) => {
+                let lo = list.partition_point(|&i| (i as usize) < start);
+                let hi = list.partition_point(|&i| (i as usize) < end);
+                Within::List(&list[lo..hi])
+            }
+        }
+    }
+}
+
+/// The masses of a chunk of bodies, and their inverses: one value for every body when
+/// all masses are equal (as in a swarm), so that the per-body loops read no mass array.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Masses<'a> {
+    /// Every body has mass `m`; `inv` = 1/m.
+    Uniform { m: f64, inv: f64 },
+    /// Body i has mass `m[i]`; `inv[i]` = 1/m[i].
+    PerBody { m: &'a [f64], inv: &'a [f64] },
+}
+
+impl<'a> Masses<'a> {
+    /// Returns the mass of body `i` of the chunk.
+    #[inline(always)]
+    pub fn m(&self, i: usize) -> f64 {
+        match self {
+            Masses::Uniform { m, .. } => *m,
+            Masses::PerBody { m, .. } => m[i],
+        }
+    }
+
+    /// Returns 1/m of body `i` of the chunk.
+    #[inline(always)]
+    pub fn inv(&self, i: usize) -> f64 {
+        match self {
+            Masses::Uniform { inv, .. } => *inv,
+            Masses::PerBody { inv, .. } => inv[i],
+        }
+    }
+
+    /// Returns the masses of the bodies `start..start + len` of this chunk.
+    #[inline(always)]
+    pub fn chunk(&self, start: usize, len: usize) -> Masses<'a> {
+        match *self {
+            Masses::PerBody { m, inv } => Masses::PerBody {
+                m: &m[start..start + len],
+                inv: &inv[start..start + len],
+            },
+            uniform => uniform,
         }
     }
 }
@@ -179,33 +293,148 @@ impl ForceSet {
             || self.springs.iter().any(|s| s.damping != 0.0)
     }
 
+    /// Returns true when some spring couples bodies (or a body to a point). Every other
+    /// force acts on each body alone, so without springs each body's acceleration
+    /// depends only on its own state and the time.
+    pub fn has_springs(&self) -> bool {
+        !self.springs.is_empty()
+    }
+
     /// Adds every force at time `t` into `force` (which the caller has zeroed).
+    ///
+    /// Forces are summed family by family in a fixed order: gravity, linear drag,
+    /// quadratic drag, time-varying forces, springs, central forces; within a family,
+    /// in file order. Every way of computing the forces (whole arrays, chunks, threads)
+    /// adds in this order, so they agree to the bit.
     pub fn accumulate(
         &self,
         t: f64,
         pos: &[DVec2],
         vel: &[DVec2],
-        mass: &[f64],
+        mass: Masses<'_>,
         force: &mut [DVec2],
     ) {
         debug_assert_eq!(pos.len(), self.n);
+        self.accumulate_before_springs(t, 0, vel, mass, force);
+        self.accumulate_springs(pos, vel, force);
+        self.accumulate_after_springs(0, pos, mass, force);
+    }
+
+    /// Adds the forces summed before springs (gravity, drag, quadratic drag and
+    /// time-varying forces) on the chunk of bodies `start..start + force.len()`, whose
+    /// velocities are `vel` and masses `mass`.
+    #[inline(always)]
+    pub fn accumulate_before_springs(
+        &self,
+        t: f64,
+        start: usize,
+        vel: &[DVec2],
+        mass: Masses<'_>,
+        force: &mut [DVec2],
+    ) {
         for f in &self.gravity {
-            f.accumulate(mass, force);
+            f.accumulate(start, mass, force);
         }
         for f in &self.drag {
-            f.accumulate(vel, force);
+            f.accumulate(start, vel, force);
         }
         for f in &self.quadratic_drag {
-            f.accumulate(vel, force);
+            f.accumulate(start, vel, force);
         }
         for f in &self.time_varying {
-            f.accumulate(t, force);
+            f.accumulate(t, start, force);
         }
+    }
+
+    /// Returns true when every force but the springs acts on every body of the chunk
+    /// `start..start + len`, so that [`ForceSet::forces_on`] can sum them body by body.
+    #[inline(always)]
+    pub fn acts_on_whole_chunk(&self, start: usize, len: usize) -> bool {
+        let whole = |s: &Selection| match s.within(start, len) {
+            Within::Run(run) => run.start == 0 && run.end == len,
+            Within::List(_) => false,
+        };
+        self.gravity.iter().all(|f| whole(&f.bodies))
+            && self.drag.iter().all(|f| whole(&f.bodies))
+            && self.quadratic_drag.iter().all(|f| whole(&f.bodies))
+            && self.time_varying.iter().all(|f| whole(&f.bodies))
+            && self.central.iter().all(|f| whole(&f.bodies))
+    }
+
+    /// Returns the net force of every force but the springs on `N` bodies with
+    /// positions `r`, velocities `v` and masses `m`, each of which every force acts
+    /// on, at time `t`.
+    ///
+    /// Each body's terms are added in the order of [`ForceSet::accumulate`] and with
+    /// the same arithmetic, so the result is the same to the bit; working on a few
+    /// bodies at once lets each family's loop run on vector registers.
+    #[inline(always)]
+    pub fn forces_on<const N: usize>(
+        &self,
+        t: f64,
+        r: &[DVec2; N],
+        v: &[DVec2; N],
+        m: &[f64; N],
+    ) -> [DVec2; N] {
+        let mut f = [DVec2::ZERO; N];
+        for g in &self.gravity {
+            for j in 0..N {
+                // F = m·g.
+                f[j] += m[j] * g.g;
+            }
+        }
+        for d in &self.drag {
+            for j in 0..N {
+                // F = -k·v.
+                f[j] -= d.k * v[j];
+            }
+        }
+        for q in &self.quadratic_drag {
+            for j in 0..N {
+                // F = -c·|v|·v.
+                f[j] -= q.c * v[j].length() * v[j];
+            }
+        }
+        for tv in &self.time_varying {
+            // F(t) = f0 + f1·t.
+            let f_t = tv.f0 + t * tv.f1;
+            for fj in &mut f {
+                *fj += f_t;
+            }
+        }
+        for c in &self.central {
+            for j in 0..N {
+                let d = r[j] - c.centre;
+                let r2 = d.length_squared();
+                if r2 > 0.0 {
+                    // F = -μ·m·(r - c)/|r - c|³, with 1/|r - c|³ = 1/(r²·√r²).
+                    let inv_r3 = 1.0 / (r2 * r2.sqrt());
+                    f[j] -= c.strength * m[j] * inv_r3 * d;
+                }
+            }
+        }
+        f
+    }
+
+    /// Adds every spring's force, in file order, to both its ends (whole arrays).
+    pub fn accumulate_springs(&self, pos: &[DVec2], vel: &[DVec2], force: &mut [DVec2]) {
         for f in &self.springs {
             f.accumulate(pos, vel, force);
         }
+    }
+
+    /// Adds the forces summed after springs (central forces) on the chunk of bodies
+    /// `start..start + force.len()`, whose positions are `pos` and masses `mass`.
+    #[inline(always)]
+    pub fn accumulate_after_springs(
+        &self,
+        start: usize,
+        pos: &[DVec2],
+        mass: Masses<'_>,
+        force: &mut [DVec2],
+    ) {
         for f in &self.central {
-            f.accumulate(pos, mass, force);
+            f.accumulate(start, pos, mass, force);
         }
     }
 

@@ -2,7 +2,7 @@
 
 use glam::DVec2;
 
-use super::Selection;
+use super::{Selection, Within};
 
 /// A force that changes linearly with time, F(t) = f0 + f1·t. The article's example
 /// F = 2t is f0 = (0, 0), f1 = (2, 0); with it v(t) = v0 + t²/m and
@@ -18,10 +18,23 @@ pub struct TimeVarying {
 }
 
 impl TimeVarying {
-    /// Adds F(t) = f0 + f1·t to every selected body.
-    #[inline]
-    pub fn accumulate(&self, t: f64, force: &mut [DVec2]) {
-        let f = self.f0 + t * self.f1;
-        self.bodies.for_each(force.len(), |i| force[i] += f);
+    /// Adds F(t) = f0 + f1·t to every selected body among the chunk of bodies
+    /// `start..start + force.len()`.
+    #[inline(always)]
+    pub fn accumulate(&self, t: f64, start: usize, force: &mut [DVec2]) {
+        // F(t) = f0 + f1·t, the same for every body.
+        let f_t = self.f0 + t * self.f1;
+        match self.bodies.within(start, force.len()) {
+            Within::Run(run) => {
+                for f in &mut force[run] {
+                    *f += f_t;
+                }
+            }
+            Within::List(list) => {
+                for &i in list {
+                    force[i as usize - start] += f_t;
+                }
+            }
+        }
     }
 }

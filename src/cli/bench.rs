@@ -1,0 +1,278 @@
+//! `physframes bench`: how fast this machine simulates, draws, encodes and writes.
+//!
+//! Each scene is rendered `--repeat` times into a fresh temporary folder (removed
+//! afterwards) and the median run is reported, with the time per frame of each stage as
+//! the manifest records it. `--simulate-only` times the simulation alone, stepping the
+//! scene's `Simulation` from t = 0 to its last frame with nothing drawn or written, and
+//! reports nanoseconds per body-step.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use clap::Args;
+
+use super::{parse_frames, SceneArgs};
+use crate::error::{Error, Result};
+use crate::pipeline::{self, RenderOptions};
+use crate::render::Compression;
+use crate::scene::Scene;
+use crate::sim::Simulation;
+
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// Scene files to measure [default: every scene in scenes/ and scenes/bench/].
+    scenes: Vec<PathBuf>,
+    /// Runs per scene; the median is reported.
+    #[arg(long, value_name = "N", default_value_t = 3)]
+    repeat: usize,
+    /// Threads that draw and encode frames, and that step large swarms with
+    /// --simulate-only [default: one per core].
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    threads: usize,
+    /// PNG compression: fastest, fast or best.
+    #[arg(long, value_name = "LEVEL", default_value = "fast")]
+    compression: String,
+    /// Render only these frames: A..B (B excluded), A..=B, A.., ..B or A.
+    #[arg(long, value_name = "RANGE")]
+    frames: Option<String>,
+    /// Time the simulation alone: nothing is drawn, encoded or written.
+    #[arg(long)]
+    simulate_only: bool,
+    /// Write frames under this folder instead of a temporary one (it is not removed).
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// Use this integrator instead of each scene's.
+    #[arg(long, value_name = "NAME")]
+    integrator: Option<String>,
+}
+
+/// One rendering run's figures.
+struct RenderRun {
+    frames: u64,
+    wall_s: f64,
+    /// Seconds per frame: simulate, draw, encode, write (the last three summed over
+    /// threads).
+    stages: [f64; 4],
+    bytes_per_frame: f64,
+}
+
+pub fn run(args: BenchArgs) -> Result<()> {
+    if args.repeat == 0 {
+        return Err(Error::Usage("--repeat must be at least 1".into()));
+    }
+    let compression = args
+        .compression
+        .parse::<Compression>()
+        .map_err(Error::Usage)?;
+    let scenes = if args.scenes.is_empty() {
+        default_scenes()?
+    } else {
+        args.scenes.clone()
+    };
+    let threads = match args.threads {
+        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        n => n,
+    };
+    let mut out = format!(
+        "physframes {} bench: {} threads, {} run(s) per scene, median shown; load average {}\n",
+        env!("CARGO_PKG_VERSION"),
+        threads,
+        args.repeat,
+        load_average()
+    );
+    if args.simulate_only {
+        out.push_str(&format!(
+            "{:<28} {:>9} {:>7} {:>12} {:>16}\n",
+            "scene", "bodies", "steps", "seconds", "ns/body-step"
+        ));
+    } else {
+        out.push_str(&format!(
+            "{:<28} {:>9} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>11}\n",
+            "scene",
+            "bodies",
+            "frames",
+            "frames/s",
+            "sim ms",
+            "draw ms",
+            "enc ms",
+            "write ms",
+            "bytes/frame"
+        ));
+        out.push_str(&format!(
+            "{:<28} {:>9} {:>6} {:>9} {:>39} {:>11}\n",
+            "", "", "", "", "(per frame, summed over threads)", ""
+        ));
+    }
+    super::say(&out)?;
+    for path in &scenes {
+        let scene = SceneArgs {
+            scene: path.clone(),
+            integrator: args.integrator.clone(),
+            set: Vec::new(),
+        }
+        .load()?;
+        let line = if args.simulate_only {
+            simulate_line(&scene, threads, args.repeat)?
+        } else {
+            let frames = args
+                .frames
+                .as_deref()
+                .map(|f| parse_frames(f, scene.render.frame_count))
+                .transpose()?;
+            let mut runs = Vec::with_capacity(args.repeat);
+            for _ in 0..args.repeat {
+                runs.push(render_once(
+                    &scene,
+                    &args,
+                    threads,
+                    compression,
+                    frames.clone(),
+                )?);
+            }
+            runs.sort_by(|a, b| a.wall_s.total_cmp(&b.wall_s));
+            let m = &runs[runs.len() / 2];
+            let ms = |s: f64| s * 1e3;
+            format!(
+                "{:<28} {:>9} {:>6} {:>9.1} {:>9.3} {:>9.3} {:>9.3} {:>9.3} {:>11.0}\n",
+                scene.name,
+                scene.bodies.len(),
+                m.frames,
+                m.frames as f64 / m.wall_s,
+                ms(m.stages[0]),
+                ms(m.stages[1]),
+                ms(m.stages[2]),
+                ms(m.stages[3]),
+                m.bytes_per_frame
+            )
+        };
+        super::say(&line)?;
+    }
+    Ok(())
+}
+
+/// Returns every `.toml` file in `scenes/` and `scenes/bench/`, sorted.
+fn default_scenes() -> Result<Vec<PathBuf>> {
+    let mut found = Vec::new();
+    for dir in ["scenes", "scenes/bench"] {
+        let Ok(entries) = std::fs::read_dir(dir) else {
+            continue;
+        };
+        let mut here: Vec<PathBuf> = entries
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+            .collect();
+        here.sort();
+        found.extend(here);
+    }
+    if found.is_empty() {
+        return Err(Error::Usage(
+            "no scene given, and no scenes/ folder here; name the scene files to measure".into(),
+        ));
+    }
+    Ok(found)
+}
+
+/// Renders a scene once into a fresh folder and returns its figures.
+fn render_once(
+    scene: &Scene,
+    args: &BenchArgs,
+    threads: usize,
+    compression: Compression,
+    frames: Option<std::ops::Range<u64>>,
+) -> Result<RenderRun> {
+    let parent = match &args.out {
+        Some(dir) => {
+            std::fs::create_dir_all(dir).map_err(|e| Error::io("cannot create", dir, e))?;
+            dir.clone()
+        }
+        None => std::env::temp_dir(),
+    };
+    let folder = tempfile::Builder::new()
+        .prefix("physframes-bench-")
+        .tempdir_in(&parent)
+        .map_err(|e| Error::io("cannot create a folder in", &parent, e))?;
+    let options = RenderOptions {
+        out_dir: folder.path().to_path_buf(),
+        frames,
+        threads,
+        compression,
+        progress: false,
+    };
+    let report = pipeline::render(scene, &options)?;
+    let m = &report.manifest;
+    let n = m.frames_written.max(1) as f64;
+    let bytes = frame_bytes(folder.path())?;
+    let t = &m.timings;
+    let run = RenderRun {
+        frames: m.frames_written,
+        wall_s: t.wall_s,
+        stages: [
+            t.simulate_s / n,
+            t.draw_s / n,
+            t.encode_s / n,
+            t.write_s / n,
+        ],
+        bytes_per_frame: bytes as f64 / n,
+    };
+    if args.out.is_some() {
+        // The caller asked to keep the frames.
+        let _ = folder.keep();
+    }
+    Ok(run)
+}
+
+/// Returns the total size of the frame files in a folder.
+fn frame_bytes(dir: &Path) -> Result<u64> {
+    let mut total = 0;
+    for (_, path) in crate::output::list_frames(dir)? {
+        total += std::fs::metadata(&path)
+            .map_err(|e| Error::io("cannot read", path.clone(), e))?
+            .len();
+    }
+    Ok(total)
+}
+
+/// Steps a scene's simulation to its last frame `repeat` times on a pool of `threads`
+/// threads and formats the median time per body-step.
+fn simulate_line(scene: &Scene, threads: usize, repeat: usize) -> Result<String> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| Error::Runtime(format!("cannot start {threads} threads: {e}")))?;
+    let steps = scene.total_steps();
+    let mut seconds = Vec::with_capacity(repeat);
+    for _ in 0..repeat {
+        let mut sim = Simulation::new(
+            scene.system(),
+            scene.initial_state(),
+            scene.simulation.integrator,
+            scene.simulation.dt,
+        );
+        let started = Instant::now();
+        let result = pool.install(|| sim.run_steps(steps));
+        seconds.push(started.elapsed().as_secs_f64());
+        if let Err(b) = result {
+            return Err(Error::BlowUp(pipeline::blow_up_message(scene, &b)));
+        }
+    }
+    seconds.sort_by(f64::total_cmp);
+    let median = seconds[seconds.len() / 2];
+    let body_steps = (steps as f64 * scene.bodies.len() as f64).max(1.0);
+    Ok(format!(
+        "{:<28} {:>9} {:>7} {:>12.4} {:>16.3}\n",
+        scene.name,
+        scene.bodies.len(),
+        steps,
+        median,
+        median * 1e9 / body_steps
+    ))
+}
+
+/// Returns the one-minute load average, or "unknown": a busy machine gives slower,
+/// noisier figures.
+fn load_average() -> String {
+    std::fs::read_to_string("/proc/loadavg")
+        .ok()
+        .and_then(|s| s.split_whitespace().next().map(str::to_string))
+        .unwrap_or_else(|| "unknown".into())
+}

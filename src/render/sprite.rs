@@ -1,0 +1,243 @@
+//! Sprites: a small body's look rasterised once per sub-pixel phase, then stamped.
+//!
+//! A frame of ten thousand circles spends nearly all its time in the rasteriser's set-up
+//! for each tiny path. A body whose look many bodies share is instead rasterised once
+//! per render at each of `PHASES`×`PHASES` sub-pixel offsets, and every frame blends
+//! the right one into place.
+//!
+//! A sprite keeps, for each pixel, the anti-aliasing coverage of the fill and of the
+//! outline as tiny-skia computes them, and the stamp blends the two colours with the
+//! arithmetic of tiny-skia's 8-bit pipeline, in the same order: so stamping a look at a
+//! position snapped to 1/`PHASES` pixel gives the bytes that drawing its paths there
+//! gives. The look's outline is put on a fine grid first ([`GRID`]) so that its
+//! coverage does not depend on which whole pixel it is drawn at. Against paths drawn at
+//! the unsnapped position, the difference is that of moving the shape by at most
+//! 1/(2·`PHASES`) pixel; `tests/integration/perf.rs` measures both.
+
+use tiny_skia::{Color, Pixmap};
+
+use super::bodies::BodyLook;
+
+/// Sub-pixel phases per axis: positions are snapped to 1/8 of a pixel.
+pub const PHASES: u32 = 8;
+
+/// The largest look, as a radius in pixels, that is stamped rather than drawn: larger
+/// ones are few on screen and cost memory as sprites (64 phases of a 2·r square).
+pub const MAX_SPRITE_REACH: f32 = 24.0;
+
+/// The grid, in pixels, that a stamped look's outline points are rounded to (see
+/// [`BodyLook::on_grid`]), so that the sprite and the path agree sample for sample.
+pub const GRID: f32 = 1.0 / 256.0;
+
+/// A look rasterised once at every sub-pixel phase.
+#[derive(Clone, Debug)]
+pub struct SpriteSheet {
+    sprites: Vec<Sprite>,
+    fill: Ink,
+    edge: Ink,
+}
+
+/// A paint's colour as tiny-skia's 8-bit pipeline holds it: premultiplied bytes, and
+/// whether it is opaque (tiny-skia then blends by linear interpolation with the
+/// coverage, otherwise by scaling the colour by the coverage and compositing over).
+#[derive(Clone, Copy, Debug)]
+struct Ink {
+    rgba: [u16; 4],
+    opaque: bool,
+}
+
+/// One phase of a look: coverage of the fill and of the outline for each pixel of the
+/// smallest rectangle that either touches.
+#[derive(Clone, Debug)]
+struct Sprite {
+    /// The offset of the sprite's top-left pixel from the whole-pixel part of the
+    /// snapped position.
+    dx: i32,
+    dy: i32,
+    width: usize,
+    height: usize,
+    /// (fill coverage, outline coverage) for each pixel, row after row.
+    coverage: Vec<[u8; 2]>,
+}
+
+impl SpriteSheet {
+    /// Rasterises an outline look at every phase, or returns `None` when it is too
+    /// large to stamp or is not an outline.
+    pub fn new(look: &BodyLook) -> Option<Self> {
+        if !look.is_outline() {
+            return None;
+        }
+        let look = look.on_grid(GRID);
+        let reach = look.reach();
+        if reach.is_nan() || reach > MAX_SPRITE_REACH {
+            return None;
+        }
+        // Room for the outline's half-width and anti-aliasing on every side.
+        let pad = (reach + 3.0).ceil() as i32;
+        let side = (2 * pad + 2) as u32;
+        let mut sprites = Vec::with_capacity((PHASES * PHASES) as usize);
+        for j in 0..PHASES {
+            for i in 0..PHASES {
+                let (x, y) = (
+                    pad as f32 + i as f32 / PHASES as f32,
+                    pad as f32 + j as f32 / PHASES as f32,
+                );
+                // Opaque white over transparent black leaves the coverage in alpha.
+                let mut fill = Pixmap::new(side, side)?;
+                look.draw_outline(&mut fill, x, y, Some(Color::WHITE), None);
+                let mut edge = Pixmap::new(side, side)?;
+                look.draw_outline(&mut edge, x, y, None, Some(Color::WHITE));
+                sprites.push(Sprite::trimmed(&fill, &edge, -pad, -pad));
+            }
+        }
+        let (fill, edge) = look.colors();
+        Some(SpriteSheet {
+            sprites,
+            fill: Ink::of(fill),
+            edge: Ink::of(edge),
+        })
+    }
+
+    /// Stamps the look with its centre at pixel (x, y), snapped to the nearest
+    /// 1/`PHASES` of a pixel. Parts outside the pixmap are skipped.
+    pub fn stamp(&self, pixmap: &mut Pixmap, x: f32, y: f32) {
+        let (ix, i) = snap(x);
+        let (iy, j) = snap(y);
+        let sprite = &self.sprites[(j * PHASES + i) as usize];
+        sprite.stamp(
+            pixmap,
+            ix + i64::from(sprite.dx),
+            iy + i64::from(sprite.dy),
+            self.fill,
+            self.edge,
+        );
+    }
+}
+
+impl Ink {
+    fn of(color: Color) -> Ink {
+        let c = color.premultiply().to_color_u8();
+        Ink {
+            rgba: [c.red(), c.green(), c.blue(), c.alpha()].map(u16::from),
+            opaque: c.alpha() == 255,
+        }
+    }
+
+    /// Blends this ink with coverage `c` over the pixel `d`, as tiny-skia's 8-bit
+    /// pipeline does, with div255(v) = (v + 255) >> 8:
+    /// opaque ink: d' = div255(d·(255 - c) + s·c) (linear interpolation);
+    /// otherwise: s' = div255(s·c), then d' = s' + div255(d·(255 - s'_a)) (source over).
+    /// Both leave d unchanged when c = 0.
+    #[inline(always)]
+    fn blend(&self, d: &mut [u8], c: u8) {
+        let c = u16::from(c);
+        let div255 = |v: u16| (v + 255) >> 8;
+        if self.opaque {
+            for (d, s) in d.iter_mut().zip(self.rgba) {
+                *d = div255(u16::from(*d) * (255 - c) + s * c) as u8;
+            }
+        } else {
+            let s = self.rgba.map(|v| div255(v * c));
+            let inv = 255 - s[3];
+            for (d, s) in d.iter_mut().zip(s) {
+                *d = (s + div255(u16::from(*d) * inv)) as u8;
+            }
+        }
+    }
+}
+
+/// Splits a pixel coordinate snapped to 1/`PHASES` into its whole pixel and phase:
+/// q = round(x·PHASES), whole = ⌊q / PHASES⌋, phase = q mod PHASES.
+#[inline]
+fn snap(x: f32) -> (i64, u32) {
+    let q = (f64::from(x) * f64::from(PHASES)).round() as i64;
+    let p = i64::from(PHASES);
+    (q.div_euclid(p), q.rem_euclid(p) as u32)
+}
+
+impl Sprite {
+    /// Keeps the smallest rectangle holding every pixel that the fill or the outline
+    /// covers at all; (dx, dy) is where the pixmaps' top-left sits relative to the
+    /// position they were drawn for.
+    fn trimmed(fill: &Pixmap, edge: &Pixmap, dx: i32, dy: i32) -> Sprite {
+        let (w, h) = (fill.width() as usize, fill.height() as usize);
+        let coverage = |x: usize, y: usize| {
+            let k = 4 * (y * w + x) + 3;
+            [fill.data()[k], edge.data()[k]]
+        };
+        let (mut x0, mut y0, mut x1, mut y1) = (w, h, 0, 0);
+        for y in 0..h {
+            for x in 0..w {
+                if coverage(x, y) != [0, 0] {
+                    x0 = x0.min(x);
+                    y0 = y0.min(y);
+                    x1 = x1.max(x + 1);
+                    y1 = y1.max(y + 1);
+                }
+            }
+        }
+        if x0 >= x1 {
+            return Sprite {
+                dx,
+                dy,
+                width: 0,
+                height: 0,
+                coverage: Vec::new(),
+            };
+        }
+        let mut kept = Vec::with_capacity((x1 - x0) * (y1 - y0));
+        for y in y0..y1 {
+            kept.extend((x0..x1).map(|x| coverage(x, y)));
+        }
+        Sprite {
+            dx: dx + x0 as i32,
+            dy: dy + y0 as i32,
+            width: x1 - x0,
+            height: y1 - y0,
+            coverage: kept,
+        }
+    }
+
+    /// Blends the fill, then the outline, with the sprite's top-left pixel at (x, y).
+    fn stamp(&self, pixmap: &mut Pixmap, x: i64, y: i64, fill: Ink, edge: Ink) {
+        let (pw, ph) = (i64::from(pixmap.width()), i64::from(pixmap.height()));
+        let (w, h) = (self.width as i64, self.height as i64);
+        // The part of the sprite inside the pixmap: columns cx0..cx1, rows cy0..cy1.
+        let (cx0, cy0) = ((-x).max(0), (-y).max(0));
+        let (cx1, cy1) = (w.min(pw - x), h.min(ph - y));
+        if cx0 >= cx1 || cy0 >= cy1 {
+            return;
+        }
+        let data = pixmap.data_mut();
+        let run = (cx1 - cx0) as usize;
+        for row in cy0..cy1 {
+            let src = (row * w + cx0) as usize;
+            let dst = 4 * ((y + row) * pw + x + cx0) as usize;
+            let covers = &self.coverage[src..src + run];
+            let pixels = &mut data[dst..dst + 4 * run];
+            for (d, [c_fill, c_edge]) in pixels.chunks_exact_mut(4).zip(covers) {
+                if *c_fill != 0 {
+                    fill.blend(d, *c_fill);
+                }
+                if *c_edge != 0 {
+                    edge.blend(d, *c_edge);
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn snapping_splits_whole_pixels_and_phases() {
+        assert_eq!(snap(10.0), (10, 0));
+        assert_eq!(snap(10.5), (10, 4));
+        assert_eq!(snap(10.93), (10, 7));
+        assert_eq!(snap(10.95), (11, 0));
+        assert_eq!(snap(-0.125), (-1, 7));
+        assert_eq!(snap(-3.0), (-3, 0));
+    }
+}

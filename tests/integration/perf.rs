@@ -1,0 +1,594 @@
+//! What the fast paths promise: swarms are reproducible, skipping and stamping give
+//! the pictures drawing every path would, and the bytes and bits do not depend on the
+//! number of threads or on the processor's vector width. Speed itself is measured by
+//! the benches (`cargo bench`) and `physframes bench`, not here.
+
+use glam::DVec2;
+use physframes::render::bodies::BodyLook;
+use physframes::render::sprite::{SpriteSheet, GRID, PHASES};
+use physframes::render::{ArrowScales, BodyDrawing, Camera, FrameView, Renderer};
+use physframes::scene::{parse, Scene, Shape};
+use physframes::sim::system::use_wide_vectors;
+use physframes::sim::{Selection, Simulation, State};
+use tiny_skia::{Color, Pixmap};
+
+use crate::util::{example, scene, stderr, stdout, Sandbox};
+
+const SWARM: &str = r##"
+[render]
+width = 320
+height = 180
+view = { min = [0.0, 0.0], max = [16.0, 9.0] }
+
+[[body]]
+name = "probe"
+mass = 2.0
+
+[[swarm]]
+name = "dust"
+count = 10000
+seed = 7
+mass = 1.0
+position = { min = [0.0, 0.0], max = [10.0, 10.0] }
+velocity = { min = [-1.0, -1.0], max = [1.0, 1.0] }
+shape = { circle = { radius = 0.05 } }
+color = "#3366cc"
+
+[[force]]
+kind = "drag"
+bodies = ["dust"]
+
+[[force]]
+kind = "gravity"
+bodies = ["dust17", "probe"]
+"##;
+
+#[test]
+fn a_swarm_gives_the_same_bodies_for_the_same_seed_everywhere() {
+    let s = scene(SWARM);
+    assert_eq!(s.bodies.len(), 10_001);
+    assert_eq!(s.bodies[0].name, "probe");
+    // Members follow the [[body]] bodies and are named by their number. The expected
+    // values come from an independent SplitMix64 with the reference constants.
+    let expect = [
+        (
+            0,
+            [
+                3.8982974839127147,
+                0.1678829452815611,
+                0.8015213612137668,
+                0.16586058605615617,
+            ],
+        ),
+        (
+            17,
+            [
+                9.849697299722354,
+                9.54085705342843,
+                -0.27167713327906595,
+                -0.9499023529005415,
+            ],
+        ),
+        (
+            9999,
+            [
+                9.697912297264907,
+                9.416600594862928,
+                -0.4227778117731753,
+                0.2258063943628732,
+            ],
+        ),
+    ];
+    for (i, [x, y, vx, vy]) in expect {
+        let b = &s.bodies[1 + i];
+        assert_eq!(b.name, format!("dust{i}"));
+        assert_eq!(b.position, DVec2::new(x, y), "dust{i}");
+        assert_eq!(b.velocity, DVec2::new(vx, vy), "dust{i}");
+        assert_eq!(b.mass, 1.0);
+        assert_eq!(b.shape, Shape::Circle { radius: 0.05 });
+    }
+}
+
+#[test]
+fn growing_a_swarm_leaves_its_earlier_members_where_they_were() {
+    let small = scene(&SWARM.replace("count = 10000", "count = 20"));
+    let large = scene(SWARM);
+    assert_eq!(small.bodies[..21], large.bodies[..21]);
+}
+
+#[test]
+fn forces_select_a_whole_swarm_by_its_name_or_one_member() {
+    let s = scene(SWARM);
+    let selections: Vec<Selection> = s
+        .forces
+        .iter()
+        .map(|f| match f {
+            physframes::sim::ForceSpec::Drag { bodies, .. }
+            | physframes::sim::ForceSpec::Gravity { bodies, .. } => bodies.clone(),
+            other => panic!("unexpected force {other:?}"),
+        })
+        .collect();
+    assert_eq!(
+        selections,
+        [
+            Selection::Range {
+                start: 1,
+                end: 10_001
+            },
+            Selection::Bodies(vec![0, 18]),
+        ]
+    );
+}
+
+#[test]
+fn swarm_mistakes_are_reported_with_their_place() {
+    let check = |text: &str, needle: &str| {
+        let e = match parse(std::path::Path::new("test.toml"), text) {
+            Ok(_) => panic!("should be rejected: {needle}"),
+            Err(e) => e.to_string(),
+        };
+        assert!(e.contains(needle), "expected `{needle}` in:\n{e}");
+    };
+    check(
+        &SWARM.replace("\"dust17\"", "\"dust10000\""),
+        "no body is named `dust10000`",
+    );
+    check(
+        &SWARM
+            .replace("name = \"probe\"", "name = \"dust3\"")
+            .replace("\"probe\"]", "\"dust4\"]"),
+        "body `dust3` has a name that swarm `dust` uses",
+    );
+    check(
+        &SWARM.replace("name = \"dust\"", "name = \"dust2\""),
+        "swarm name `dust2` cannot name members",
+    );
+    check(
+        &SWARM.replace("count = 10000", "count = 0"),
+        "`count` must be from 1",
+    );
+    check(
+        &SWARM.replace("max = [10.0, 10.0]", "max = [-10.0, 10.0]"),
+        "`position` has min above max",
+    );
+    check(
+        &SWARM.replace("bodies = [\"dust\"]", "bodies = [\"dust\", \"dust5\"]"),
+        "selects body `dust5` a second time",
+    );
+    let spring = format!(
+        "{SWARM}\n[[force]]\nkind = \"spring\"\na = \"dust\"\nb = [0.0, 0.0]\nstiffness = 1.0\n"
+    );
+    check(&spring, "`dust` is a swarm of 10000 bodies, not one body");
+}
+
+/// Returns the state after `steps` explicit Euler steps on a pool of `threads`.
+fn run(scene: &Scene, steps: u64, threads: usize) -> State {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("a thread pool");
+    let mut sim = Simulation::new(
+        scene.system(),
+        scene.initial_state(),
+        scene.simulation.integrator,
+        scene.simulation.dt,
+    );
+    pool.install(|| sim.run_steps(steps)).expect("finite");
+    sim.state().clone()
+}
+
+/// Compares two states bit for bit, naming the first body that differs.
+fn assert_same_bits(a: &State, b: &State, what: &str) {
+    for (i, ((pa, va), (pb, vb))) in a
+        .pos
+        .iter()
+        .zip(&a.vel)
+        .zip(b.pos.iter().zip(&b.vel))
+        .enumerate()
+    {
+        let bits = |v: &DVec2| (v.x.to_bits(), v.y.to_bits());
+        assert!(
+            bits(pa) == bits(pb) && bits(va) == bits(vb),
+            "{what}: body {i} differs: {pa:?} {va:?} vs {pb:?} {vb:?}"
+        );
+    }
+}
+
+/// A swarm large enough that the step runs on several threads, with every force family
+/// that acts body by body, some on part of the swarm, and unequal masses.
+fn big_swarm(extra: &str) -> Scene {
+    scene(&format!(
+        r##"
+[simulation]
+dt = 0.001
+[render]
+fps = 100
+view = {{ min = [-10.0, -10.0], max = [10.0, 10.0] }}
+[[body]]
+name = "heavy"
+mass = 3.0
+position = [1.0, 2.0]
+[[swarm]]
+name = "a"
+count = 150000
+seed = 3
+mass = 1.0
+position = {{ min = [-5.0, -5.0], max = [5.0, 5.0] }}
+velocity = {{ min = [-1.0, -1.0], max = [1.0, 1.0] }}
+[[swarm]]
+name = "b"
+count = 70001
+seed = 4
+mass = 0.5
+position = {{ min = [-5.0, -5.0], max = [5.0, 5.0] }}
+[[force]]
+kind = "gravity"
+[[force]]
+kind = "drag"
+k = 0.3
+bodies = ["a"]
+[[force]]
+kind = "quadratic-drag"
+c = 0.01
+bodies = ["b", "heavy"]
+[[force]]
+kind = "force"
+f1 = [0.5, 0.0]
+[[force]]
+kind = "central"
+strength = 2.0
+bodies = ["a", "b"]
+{extra}
+"##
+    ))
+}
+
+#[test]
+fn the_step_gives_the_same_bits_for_any_thread_count_and_vector_width() {
+    for extra in [
+        "",
+        "[[force]]\nkind = \"spring\"\na = \"a0\"\nb = \"b7\"\nstiffness = 4.0\n",
+    ] {
+        let s = big_swarm(extra);
+        let one = run(&s, 12, 1);
+        let two = run(&s, 12, 2);
+        let three = run(&s, 12, 3);
+        assert_same_bits(&one, &two, "1 and 2 threads");
+        assert_same_bits(&one, &three, "1 and 3 threads");
+        use_wide_vectors(false);
+        let narrow = run(&s, 12, 2);
+        use_wide_vectors(true);
+        assert_same_bits(&one, &narrow, "with and without AVX2");
+        assert!(one.pos.iter().any(|p| *p != DVec2::ZERO));
+    }
+}
+
+#[test]
+fn the_chunked_step_equals_explicit_euler_written_out() {
+    // r(t + h) = r(t) + h·v(t); v(t + h) = v(t) + h·a(t), with a from the system's
+    // whole-array accelerations: the fused, chunked, threaded step must match it.
+    let s = big_swarm("");
+    let system = s.system();
+    let h = s.simulation.dt;
+    let mut state = s.initial_state();
+    let mut acc = vec![DVec2::ZERO; state.len()];
+    for n in 0..5 {
+        let t = n as f64 * h;
+        system.accelerations(t, &state.pos, &state.vel, &mut acc);
+        for ((r, v), a) in state.pos.iter_mut().zip(&mut state.vel).zip(&acc) {
+            *r += h * *v;
+            *v += h * *a;
+        }
+    }
+    assert_same_bits(&state, &run(&s, 5, 2), "written out and chunked");
+}
+
+#[test]
+fn a_blow_up_inside_a_swarm_is_still_found_and_named() {
+    let s = scene(
+        r##"
+[simulation]
+dt = 0.01
+[render]
+fps = 10
+view = { min = [0.0, 0.0], max = [1.0, 1.0] }
+[[swarm]]
+name = "dust"
+count = 100000
+seed = 1
+mass = 1.0
+position = { min = [0.0, 0.0], max = [1.0, 1.0] }
+velocity = { min = [1.0, 1.0], max = [2.0, 2.0] }
+[[force]]
+kind = "drag"
+k = 1000.0
+bodies = ["dust99999"]
+"##,
+    );
+    let mut sim = Simulation::new(
+        s.system(),
+        s.initial_state(),
+        s.simulation.integrator,
+        s.simulation.dt,
+    );
+    let b = sim.run_steps(1000).expect_err("h·k/m = 10 blows up");
+    assert_eq!(b.body, 99_999);
+    assert_eq!(b.quantity, "velocity");
+}
+
+/// Returns the largest channel difference between two pixmaps and how many pixels
+/// differ at all.
+fn diff(a: &Pixmap, b: &Pixmap) -> (u8, usize) {
+    let mut largest = 0;
+    let mut count = 0;
+    for (p, q) in a.data().chunks_exact(4).zip(b.data().chunks_exact(4)) {
+        let d = p
+            .iter()
+            .zip(q)
+            .map(|(x, y)| x.abs_diff(*y))
+            .max()
+            .unwrap_or(0);
+        largest = largest.max(d);
+        count += usize::from(d > 0);
+    }
+    (largest, count)
+}
+
+#[test]
+fn a_stamped_sprite_equals_its_paths_drawn_at_the_snapped_position() {
+    let camera = Camera::fit(
+        physframes::scene::View {
+            min: DVec2::ZERO,
+            max: DVec2::new(16.0, 9.0),
+        },
+        1280,
+        720,
+    );
+    let s = scene(SWARM);
+    let shapes = [
+        (Shape::Circle { radius: 0.03 }, [0x33, 0x66, 0xcc, 0xff]),
+        (Shape::Circle { radius: 0.2 }, [0xcc, 0x33, 0x33, 0x80]),
+        (
+            Shape::Box {
+                width: 0.3,
+                height: 0.1,
+            },
+            [0x2c, 0xa0, 0x2c, 0xff],
+        ),
+        (
+            Shape::Polygon {
+                points: vec![
+                    DVec2::new(-0.1, -0.05),
+                    DVec2::new(0.12, -0.04),
+                    DVec2::new(0.0, 0.1),
+                ],
+            },
+            [0x94, 0x67, 0xbd, 0xc0],
+        ),
+    ];
+    for (shape, color) in shapes {
+        let mut body = s.bodies[1].clone();
+        body.shape = shape.clone();
+        body.color = physframes::scene::Rgba(color);
+        let look = BodyLook::new(&body, &camera);
+        let sheet = SpriteSheet::new(&look).expect("small enough to stamp");
+        let on_grid = look.on_grid(GRID);
+        let mut largest = 0;
+        for k in 0..400u32 {
+            // Positions on a 1/100-pixel lattice, so every phase is met.
+            let x = 20.0 + (k % 20) as f32 * 1.01 + (k / 20) as f32 * 0.013;
+            let y = 20.0 + (k / 20) as f32 * 1.07;
+            let mut stamped = Pixmap::new(64, 64).expect("pixmap");
+            stamped.fill(Color::from_rgba8(250, 240, 230, 255));
+            let mut drawn = stamped.clone();
+            sheet.stamp(&mut stamped, x, y);
+            let snap = |v: f32| (v * PHASES as f32).round() / PHASES as f32;
+            on_grid.draw(&mut drawn, snap(x), snap(y));
+            largest = largest.max(diff(&stamped, &drawn).0);
+        }
+        assert!(largest <= 1, "{shape:?}: largest difference {largest}/255");
+    }
+}
+
+#[test]
+fn stamping_looks_like_drawing_every_path_at_its_exact_position() {
+    // Against paths at unsnapped positions the difference is what moving a shape by at
+    // most 1/16 pixel makes: tiny-skia samples coverage on a 4 × 4 grid, so an edge
+    // pixel can change by up to 4 of its 16 samples (64/255); few pixels change.
+    let text = std::fs::read_to_string(example("bench/circles-1000.toml")).expect("scene");
+    let s = scene(&text);
+    let arrows = ArrowScales {
+        velocity: 1.0,
+        force: 1.0,
+    };
+    let state = s.initial_state();
+    let view = FrameView {
+        index: 0,
+        t: 0.0,
+        pos: &state.pos,
+        vel: &[],
+        force: None,
+        trail: None,
+        traces: None,
+    };
+    let stamped = Renderer::with_drawing(&s, arrows, BodyDrawing::Sprites).draw(&view);
+    let drawn = Renderer::with_drawing(&s, arrows, BodyDrawing::Paths).draw(&view);
+    let (largest, count) = diff(&stamped, &drawn);
+    let touched: Vec<usize> = (0..drawn.pixels().len())
+        .filter(|&i| drawn.pixels()[i] != stamped.pixels()[i] || drawn.pixels()[i].red() != 255)
+        .collect();
+    // The mean difference, over the pixels the circles touch, of the largest channel.
+    let total: u64 = touched
+        .iter()
+        .map(|&i| {
+            let (p, q) = (drawn.pixels()[i], stamped.pixels()[i]);
+            u64::from(
+                p.red()
+                    .abs_diff(q.red())
+                    .max(p.green().abs_diff(q.green()))
+                    .max(p.blue().abs_diff(q.blue())),
+            )
+        })
+        .sum();
+    let mean = total as f64 / touched.len() as f64;
+    eprintln!(
+        "sprites against exact paths: largest {largest}/255, {count} of {} touched pixels differ, mean {mean:.2}/255",
+        touched.len()
+    );
+    assert!(largest <= 64, "largest difference {largest}/255");
+    assert!(mean < 3.0, "mean difference {mean}/255 over the circles");
+    assert!(
+        touched.len() > 50_000,
+        "the circles cover {} pixels",
+        touched.len()
+    );
+}
+
+#[test]
+fn a_frame_drawn_into_a_reused_pixmap_equals_a_fresh_one_and_skips_what_is_outside() {
+    let s = scene(SWARM);
+    let renderer = Renderer::new(
+        &s,
+        ArrowScales {
+            velocity: 1.0,
+            force: 1.0,
+        },
+    );
+    let mut state = s.initial_state();
+    let mut reused = renderer.new_frame();
+    reused.fill(Color::from_rgba8(1, 2, 3, 255));
+    fn view(state: &State) -> FrameView<'_> {
+        FrameView {
+            index: 0,
+            t: 0.0,
+            pos: &state.pos,
+            vel: &[],
+            force: None,
+            trail: None,
+            traces: None,
+        }
+    }
+    renderer.draw_into(&view(&state), &mut reused);
+    assert_eq!(reused.data(), renderer.draw(&view(&state)).data());
+    // Far outside the image, or not a number: nothing is drawn.
+    for p in state.pos.iter_mut() {
+        *p = DVec2::new(-1e30, f64::NAN);
+    }
+    assert_eq!(
+        renderer.draw(&view(&state)).data(),
+        renderer.new_frame().data()
+    );
+}
+
+#[test]
+fn a_swarm_renders_the_same_bytes_with_any_number_of_threads() {
+    let sandbox = Sandbox::new();
+    let scene_path = example("bench/circles-1000.toml");
+    for (dir, threads) in [("a", "1"), ("b", "2"), ("c", "3")] {
+        let out = sandbox.run(&[
+            "render",
+            &scene_path,
+            "--out",
+            dir,
+            "--threads",
+            threads,
+            "--frames",
+            "0..12",
+            "--quiet",
+        ]);
+        assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    }
+    for k in 0..12 {
+        let name = format!("frame_{k:06}.png");
+        let a = std::fs::read(sandbox.path(&format!("a/{name}"))).expect("a");
+        for other in ["b", "c"] {
+            let b = std::fs::read(sandbox.path(&format!("{other}/{name}"))).expect("b");
+            assert!(a == b, "{name} differs between 1 and {other} threads");
+        }
+    }
+}
+
+#[test]
+fn bench_prints_frames_per_second_and_nanoseconds_per_body_step() {
+    let sandbox = Sandbox::new();
+    let scene_path = example("drag.toml");
+    let out = sandbox.run(&["bench", &scene_path, "--repeat", "1", "--frames", "0..5"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(
+        text.contains("frames/s") && text.contains("bytes/frame"),
+        "{text}"
+    );
+    let row = text
+        .lines()
+        .find(|l| l.starts_with("drag "))
+        .unwrap_or_else(|| panic!("no row for drag in:\n{text}"));
+    let fields: Vec<&str> = row.split_whitespace().collect();
+    assert_eq!(fields[1..3], ["3", "5"], "{row}");
+    assert!(fields[3].parse::<f64>().is_ok_and(|f| f > 0.0), "{row}");
+    let out = sandbox.run(&["bench", &scene_path, "--repeat", "2", "--simulate-only"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let text = stdout(&out);
+    let row = text
+        .lines()
+        .find(|l| l.starts_with("drag "))
+        .unwrap_or_else(|| panic!("no row for drag in:\n{text}"));
+    let fields: Vec<&str> = row.split_whitespace().collect();
+    assert_eq!(fields[1..3], ["3", "500"], "{row}");
+    assert!(text.contains("ns/body-step"), "{text}");
+    // It writes nothing where it runs.
+    assert!(sandbox.list(".").is_empty(), "{:?}", sandbox.list("."));
+}
+
+#[test]
+fn frames_compressed_with_reused_static_tiles_decode_to_the_same_pixels() {
+    let text = std::fs::read_to_string(example("bench/circles-1000.toml")).expect("scene");
+    // Many bodies touch every row; three leave most rows as the static layer drew them.
+    for s in [
+        scene(&text),
+        scene(&text.replace("count = 1000", "count = 3")),
+    ] {
+        check_static_tiles(&s);
+    }
+}
+
+fn check_static_tiles(s: &Scene) {
+    use physframes::pipeline::{render_prepared, RenderOptions};
+    use physframes::render::bodies::draw_arrow;
+    use physframes::render::Compression;
+
+    // A static layer of arrows, as a vector field would draw.
+    let field = |r: &mut Renderer| {
+        let clip = *r.clip();
+        let layer = r.static_layer_mut();
+        for k in 0..300 {
+            let (x, y) = (f64::from(k % 30) * 43.0, f64::from(k / 30) * 71.0 + 9.0);
+            let grey = Color::from_rgba8(0x88, 0x88, 0x88, 0xff);
+            draw_arrow(
+                layer,
+                &clip,
+                (x, y),
+                (25.0, 9.0 - f64::from(k % 7)),
+                grey,
+                1.0,
+            );
+        }
+    };
+    let sandbox = Sandbox::new();
+    for (dir, compression) in [("tiles", Compression::Fast), ("png", Compression::Fastest)] {
+        let options = RenderOptions {
+            out_dir: sandbox.path(dir),
+            frames: Some(0..8),
+            threads: 2,
+            compression,
+            progress: false,
+        };
+        render_prepared(s, &options, field).expect("renders");
+    }
+    for k in 0..8 {
+        let name = format!("frame_{k:06}.png");
+        let a = image::open(sandbox.path(&format!("tiles/{name}"))).expect("decodes");
+        let b = image::open(sandbox.path(&format!("png/{name}"))).expect("decodes");
+        assert!(a.to_rgba8() == b.to_rgba8(), "{name}: pixels differ");
+    }
+}
