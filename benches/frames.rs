@@ -165,7 +165,11 @@ fn stages(c: &mut Criterion) {
             let encoder =
                 StaticPng::new(renderer.static_layer()).expect("the fdeflate code is readable");
             group.bench_function(format!("{name}{suffix}/encode-fast"), |b| {
-                b.iter(|| encoder.encode(&pixmap, &Provenance::default(), &mut png))
+                b.iter(|| {
+                    encoder
+                        .encode(&pixmap, &Provenance::default(), &mut png)
+                        .expect("encodes")
+                })
             });
             group.bench_function(format!("{name}{suffix}/encode-fastest"), |b| {
                 b.iter(|| {
@@ -221,13 +225,19 @@ fn compression(c: &mut Criterion) {
     }
     let encoder = StaticPng::new(renderer.static_layer()).expect("the fdeflate code is readable");
     let mut png = Vec::new();
-    encoder.encode(&pixmap, &Provenance::default(), &mut png);
+    encoder
+        .encode(&pixmap, &Provenance::default(), &mut png)
+        .expect("encodes");
     eprintln!(
         "compression fast (static tiles): {} bytes for a 1000-circle frame",
         png.len()
     );
     group.bench_function("fast-static-tiles", |b| {
-        b.iter(|| encoder.encode(&pixmap, &Provenance::default(), &mut png))
+        b.iter(|| {
+            encoder
+                .encode(&pixmap, &Provenance::default(), &mut png)
+                .expect("encodes")
+        })
     });
     // The same frame over a static layer of 500 arrows and axes, with each encoder.
     let (renderer, _) = frame_of(&scene, true);
@@ -245,7 +255,11 @@ fn compression(c: &mut Criterion) {
         });
     }
     group.bench_function("fast-static-tiles+static-layer", |b| {
-        b.iter(|| encoder.encode(&pixmap, &Provenance::default(), &mut png))
+        b.iter(|| {
+            encoder
+                .encode(&pixmap, &Provenance::default(), &mut png)
+                .expect("encodes")
+        })
     });
     group.finish();
 }

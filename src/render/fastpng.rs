@@ -12,14 +12,15 @@
 //! crate tunes for filtered PNG data (read, once per process, from the header of an
 //! empty `fdeflate` stream): literals, and runs of zeros as matches at distance 1. So a
 //! frame is about the size `--compression fastest` gives. The pixels must be opaque
-//! (premultiplied and straight colour then agree); the caller checks.
+//! (premultiplied and straight colour then agree); the caller checks. A frame in which
+//! most rows changed is handed to `fdeflate` whole, which is then quicker.
 
 use std::sync::OnceLock;
 
 use simd_adler32::Adler32;
 use tiny_skia::Pixmap;
 
-use super::encode::Provenance;
+use super::encode::{encode_png_into, Compression, Provenance};
 
 /// Bytes per tile of a filtered row: 8 RGBA pixels.
 const TILE: usize = 32;
@@ -44,6 +45,9 @@ pub struct StaticPng {
     /// once (runs of zeros cross tiles), as bits of the pool, and its Adler-32: used
     /// when the row and the row above equal the static layer's.
     rows: Vec<(TileBits, u32)>,
+    /// For each row, whether its filtered bytes are all zero (the static layer is the
+    /// background there): tiles would then save nothing.
+    plain: Vec<bool>,
     /// The compressed bits of the tiles, each starting on a byte; eight spare zero bytes
     /// at the end let every tile be read in whole 64-bit words.
     pool: Vec<u8>,
@@ -127,6 +131,10 @@ impl StaticPng {
                 pool.extend_from_slice(&bytes);
             }
         }
+        let plain = filtered
+            .chunks(stride)
+            .map(|row| row.iter().all(|b| *b == 0))
+            .collect();
         let mut rows = Vec::with_capacity(height as usize);
         for row in filtered.chunks(stride) {
             let mut w = Deflate::new(codes, Vec::new());
@@ -149,6 +157,7 @@ impl StaticPng {
         pool.extend_from_slice(&[0; 8]);
         Some(StaticPng {
             rows,
+            plain,
             width,
             height,
             pixels,
@@ -161,8 +170,37 @@ impl StaticPng {
 
     /// Encodes a frame drawn over this static layer (same size, every pixel opaque) as
     /// an 8-bit RGBA PNG with the given text chunks, into `out` (cleared first).
-    pub fn encode(&self, frame: &Pixmap, provenance: &Provenance, out: &mut Vec<u8>) {
+    ///
+    /// When most rows differ from the static layer (a sample of every eighth row
+    /// decides), reusing tiles saves little and `fdeflate` over the whole frame is
+    /// quicker: the frame is then encoded as `--compression fastest` does.
+    pub fn encode(
+        &self,
+        frame: &Pixmap,
+        provenance: &Provenance,
+        out: &mut Vec<u8>,
+    ) -> Result<(), png::EncodingError> {
         assert_eq!((frame.width(), frame.height()), (self.width, self.height));
+        let stride = 4 * self.width as usize;
+        let (mut sampled, mut changed) = (0, 0);
+        for (row, static_row) in frame
+            .data()
+            .chunks(stride)
+            .zip(self.pixels.chunks(stride))
+            .step_by(8)
+        {
+            sampled += 1;
+            changed += usize::from(row != static_row);
+        }
+        if 2 * changed > sampled {
+            return encode_png_into(out, frame, provenance, Compression::Fastest, true);
+        }
+        self.encode_tiles(frame, provenance, out);
+        Ok(())
+    }
+
+    /// Encodes a frame reusing the static layer's compressed rows and tiles.
+    fn encode_tiles(&self, frame: &Pixmap, provenance: &Provenance, out: &mut Vec<u8>) {
         let stride = 4 * self.width as usize;
         let tiles_per_row = stride.div_ceil(TILE);
         out.clear();
@@ -219,19 +257,41 @@ impl StaticPng {
                 }
             }
             above_row_same = row_same;
-            if !row_same {
-                for ((s, a), b) in same
-                    .iter_mut()
-                    .zip(row.chunks(TILE))
-                    .zip(static_row.chunks(TILE))
-                {
-                    // An OR of XORs compiles to a few vector instructions, not a call.
-                    *s = a.iter().zip(b).fold(0u8, |d, (x, y)| d | (x ^ y)) == 0;
+            // Tiles pay when the static row has content and enough of it is clean;
+            // otherwise the row is compressed afresh, as a whole.
+            let afresh = if self.plain[y] {
+                if !row_same {
+                    same.fill(false);
                 }
-            }
+                true
+            } else {
+                if !row_same {
+                    for ((s, a), b) in same
+                        .iter_mut()
+                        .zip(row.chunks(TILE))
+                        .zip(static_row.chunks(TILE))
+                    {
+                        // An OR of XORs compiles to a few vector instructions.
+                        *s = a.iter().zip(b).fold(0u8, |d, (x, y)| d | (x ^ y)) == 0;
+                    }
+                }
+                let clean = same.iter().zip(&above_same).filter(|(s, a)| **s && **a);
+                4 * clean.count() < tiles_per_row
+            };
             w.flush_run();
             w.literal(usize::from(UP));
             adler = adler_update(adler, &[UP]);
+            if afresh {
+                if y == 0 {
+                    row_filtered.copy_from_slice(row);
+                } else {
+                    up_filter(row, &data[(y - 1) * stride..y * stride], &mut row_filtered);
+                }
+                adler = adler_update(adler, &row_filtered);
+                w.bytes(&row_filtered);
+                std::mem::swap(&mut same, &mut above_same);
+                continue;
+            }
             let sums = &self.sums[y * (tiles_per_row + 1)..(y + 1) * (tiles_per_row + 1)];
             let clean = |t: usize| same[t] && above_same[t];
             // Walk the row in spans of tiles that are all clean or all not.
@@ -755,7 +815,7 @@ mod tests {
                     c,
                 );
             }
-            encoder.encode(&frame, &provenance, &mut out);
+            encoder.encode_tiles(&frame, &provenance, &mut out);
             let (pixels, text) = decode(&out);
             assert_eq!(pixels, frame.data(), "frame {k}");
             check_adler(&out, frame.data(), 4 * 203);
@@ -772,10 +832,10 @@ mod tests {
         frame.data_mut()[4 * 650 + 1] = 3;
         frame.data_mut()[4 * 700 * 5 + 7] = 0;
         let mut out = Vec::new();
-        encoder.encode(&frame, &Provenance::default(), &mut out);
+        encoder.encode_tiles(&frame, &Provenance::default(), &mut out);
         assert_eq!(decode(&out).0, frame.data());
         check_adler(&out, frame.data(), 4 * 700);
-        encoder.encode(&layer, &Provenance::default(), &mut out);
+        encoder.encode_tiles(&layer, &Provenance::default(), &mut out);
         assert_eq!(decode(&out).0, layer.data());
     }
 }
