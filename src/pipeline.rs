@@ -469,10 +469,23 @@ fn draw_and_write(
 
 /// Describes a blow-up for a person: which body, which step, and what to change.
 pub fn blow_up_message(scene: &Scene, b: &BlowUp) -> String {
+    let integrator = scene.simulation.integrator;
+    if b.quantity == crate::sim::STIFF {
+        return format!(
+            "the simulation stopped: {integrator} took {} steps without reaching the next frame (t = {}); the scene is too stiff for an explicit adaptive method at rtol = {}, atol = {}\nhint: loosen the tolerances, or use a fixed-step method with a dt that linear stability allows",
+            crate::sim::MAX_ADAPTIVE_STEPS_PER_ADVANCE,
+            b.t,
+            scene.simulation.tolerances.rtol,
+            scene.simulation.tolerances.atol
+        );
+    }
     let body = &scene.bodies[b.body];
+    let masses: Vec<f64> = scene.bodies.iter().map(|b| b.mass).collect();
+    let theory = crate::sim::stability::stable_step_hint(integrator, &masses, &scene.forces)
+        .map_or(String::new(), |h| format!("\n{h}"));
     format!(
-        "the simulation blew up: the {} of body `{}` became non-finite at step {} (t = {}) with integrator {} and dt = {}\nhint: a smaller dt, or a more stable integrator, keeps it finite; for explicit Euler with linear drag k on mass m, stability needs dt ≤ 2·m/k",
-        b.quantity, body.name, b.step, b.t, scene.simulation.integrator, scene.simulation.dt
+        "the simulation blew up: the {} of body `{}` became non-finite at step {} (t = {}) with integrator {integrator} and dt = {}\nhint: a smaller dt, or a more stable integrator, keeps it finite{theory}",
+        b.quantity, body.name, b.step, b.t, scene.simulation.dt
     )
 }
 

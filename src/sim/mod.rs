@@ -21,5 +21,5 @@ pub mod system;
 pub use forces::{Anchor, ForceSpec, Selection};
 pub use integrators::{Integrator, IntegratorKind, Stepper, Tolerances};
 pub use scalar_ode::ScalarMethod;
-pub use simulation::{BlowUp, Simulation};
+pub use simulation::{BlowUp, Simulation, MAX_ADAPTIVE_STEPS_PER_ADVANCE, STIFF};
 pub use system::{State, System};

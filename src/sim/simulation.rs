@@ -7,6 +7,14 @@ use glam::DVec2;
 use super::integrators::{StepController, Tolerances};
 use super::{IntegratorKind, State, Stepper, System};
 
+/// The most steps an adaptive method may take in one call of `advance_to` (one frame),
+/// before the run is stopped as too stiff for it.
+pub const MAX_ADAPTIVE_STEPS_PER_ADVANCE: u64 = 1_000_000;
+
+/// The `quantity` of a [`BlowUp`] that is not a non-finite value but an adaptive step
+/// size driven towards zero by a stiff scene.
+pub const STIFF: &str = "adaptive step size";
+
 /// A simulation whose state stopped being finite.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BlowUp {
@@ -22,6 +30,13 @@ pub struct BlowUp {
 
 impl fmt::Display for BlowUp {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.quantity == STIFF {
+            return write!(
+                f,
+                "the adaptive step size fell so far that {} steps did not reach the next output time (step {}, t = {})",
+                MAX_ADAPTIVE_STEPS_PER_ADVANCE, self.step, self.t
+            );
+        }
         write!(
             f,
             "the {} of body #{} became non-finite at step {} (t = {})",
@@ -245,8 +260,19 @@ impl Simulation {
     /// frames do not ratchet the step size down.
     pub fn advance_to(&mut self, t_end: f64) -> Result<(), BlowUp> {
         if self.adaptive.is_some() {
+            // A stiff scene drives the adaptive step towards zero, and the run would never
+            // end; past a budget of steps for one advance it stops and says so instead.
+            let budget = self.steps + MAX_ADAPTIVE_STEPS_PER_ADVANCE;
             while self.state.t < t_end {
                 self.adaptive_step(t_end)?;
+                if self.steps >= budget && self.state.t < t_end {
+                    return Err(BlowUp {
+                        body: 0,
+                        step: self.steps,
+                        t: self.state.t,
+                        quantity: STIFF,
+                    });
+                }
             }
             return Ok(());
         }

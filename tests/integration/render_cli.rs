@@ -286,3 +286,38 @@ fn export_writes_round_trip_numbers_equal_to_the_simulation() {
     assert_eq!(stdout(&out).lines().count(), 1 + (3000 + 1) * 2);
     assert!(!sandbox.path("output").exists(), "export draws nothing");
 }
+
+#[test]
+fn a_scene_too_stiff_for_dopri5_stops_with_a_message_instead_of_running_forever() {
+    // k/m = 1e12: dopri5's step must stay under 3.3e-12 to be stable, so one frame of
+    // 0.04 s would take about 1e10 steps; the budget of 1e6 steps stops it.
+    let text = r#"
+        [simulation]
+        integrator = "dopri5"
+        dt = 0.01
+        duration = 1.0
+        [render]
+        fps = 25
+        width = 64
+        height = 48
+        view = { min = [-1.0, -1.0], max = [1.0, 1.0] }
+        [[body]]
+        mass = 1e-9
+        velocity = [1.0, 0.0]
+        [[force]]
+        kind = "drag"
+        k = 1000.0
+    "#;
+    let sandbox = Sandbox::new();
+    sandbox.write("stiff.toml", text);
+    let out = sandbox.run(&["render", "stiff.toml", "--out", "f"]);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(3), "{err}");
+    assert!(
+        err.contains("too stiff for an explicit adaptive method"),
+        "{err}"
+    );
+    let m = manifest(&sandbox.path("f/manifest.json"));
+    assert_eq!(m["status"], "failed");
+    assert_eq!(m["frames_written"], 1);
+}
