@@ -272,6 +272,7 @@ fn render_full(
         // The simulation runs only as far as the last frame asked for.
         let mut history: Vec<Arc<[DVec2]>> = Vec::new();
         let mut traces = TraceRecorder::new(scene);
+        let energy_watch = EnergyWatch::new(&sim);
         let mut first = 0;
         if let Some(c) = &start {
             sim = c.restore(scene, integrator);
@@ -283,7 +284,10 @@ fn render_full(
                 break;
             }
             let started = Instant::now();
-            if let Err(e) = sim.advance_to(scene.frame_time(k)) {
+            if let Err(e) = sim
+                .advance_to(scene.frame_time(k))
+                .and_then(|()| energy_watch.check(&sim))
+            {
                 simulate += started.elapsed();
                 blow_up = Some((e, k));
                 break;
@@ -467,6 +471,64 @@ fn draw_and_write(
     Ok(())
 }
 
+/// How many times its starting scale the mechanical energy of a scene without an energy
+/// source may grow before the run is stopped as numerically unstable.
+pub const ENERGY_GROWTH_LIMIT: f64 = 10.0;
+
+/// Watches the mechanical energy of a scene that has no energy source: drag and damping
+/// only remove energy and the other forces conserve it, so energy growing far past its
+/// start is the integrator's instability, caught before it reaches infinity.
+pub(crate) struct EnergyWatch {
+    /// E0 and the scale S = KE0 + |U0| (plus the initial potential's own size).
+    start: Option<(f64, f64)>,
+}
+
+impl EnergyWatch {
+    pub(crate) fn new(sim: &crate::sim::Simulation) -> Self {
+        let s = sim.state();
+        let system = sim.system();
+        let start = system.mechanical_energy(&s.pos, &s.vel).and_then(|e0| {
+            let ke = system.kinetic_energy(&s.vel);
+            let scale = ke + (e0 - ke).abs();
+            (scale > 0.0 && scale.is_finite()).then_some((e0, scale))
+        });
+        EnergyWatch { start }
+    }
+
+    /// Returns a blow-up when E > E0 + (LIMIT - 1)·S, naming the body with the most
+    /// kinetic energy.
+    pub(crate) fn check(&self, sim: &crate::sim::Simulation) -> Result<(), BlowUp> {
+        let Some((e0, scale)) = self.start else {
+            return Ok(());
+        };
+        let s = sim.state();
+        let system = sim.system();
+        let Some(e) = system.mechanical_energy(&s.pos, &s.vel) else {
+            return Ok(());
+        };
+        if e <= e0 + (ENERGY_GROWTH_LIMIT - 1.0) * scale {
+            return Ok(());
+        }
+        let body = s
+            .vel
+            .iter()
+            .zip(system.masses())
+            .map(|(v, m)| m * v.length_squared())
+            .enumerate()
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .map_or(0, |(i, _)| i);
+        Err(BlowUp {
+            body,
+            step: sim.steps(),
+            t: s.t,
+            quantity: ENERGY,
+        })
+    }
+}
+
+/// The `quantity` of a [`BlowUp`] raised by [`EnergyWatch`].
+pub const ENERGY: &str = "energy";
+
 /// Describes a blow-up for a person: which body, which step, and what to change.
 pub fn blow_up_message(scene: &Scene, b: &BlowUp) -> String {
     let integrator = scene.simulation.integrator;
@@ -480,6 +542,15 @@ pub fn blow_up_message(scene: &Scene, b: &BlowUp) -> String {
         );
     }
     let body = &scene.bodies[b.body];
+    if b.quantity == ENERGY {
+        let masses: Vec<f64> = scene.bodies.iter().map(|b| b.mass).collect();
+        let theory = crate::sim::stability::stable_step_hint(integrator, &masses, &scene.forces)
+            .map_or(String::new(), |h| format!("\n{h}"));
+        return format!(
+            "the simulation blew up: its energy grew past {ENERGY_GROWTH_LIMIT} times its starting scale by step {} (t = {}) although nothing in the scene adds energy; body `{}` moves fastest; integrator {integrator}, dt = {}\nhint: a smaller dt, or a more stable integrator (symplectic-euler or verlet conserve a spring's energy){theory}",
+            b.step, b.t, body.name, scene.simulation.dt
+        );
+    }
     let masses: Vec<f64> = scene.bodies.iter().map(|b| b.mass).collect();
     let theory = crate::sim::stability::stable_step_hint(integrator, &masses, &scene.forces)
         .map_or(String::new(), |h| format!("\n{h}"));

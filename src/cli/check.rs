@@ -50,7 +50,9 @@ pub fn run(args: CheckArgs, verbosity: Verbosity) -> Result<()> {
         r.height
     );
     outln!(out, "  bodies: {}", scene.bodies.len());
-    for b in &scene.bodies {
+    // A swarm can hold a million bodies: list the first ones, then say how many more.
+    const LISTED: usize = 20;
+    for b in scene.bodies.iter().take(LISTED) {
         let shape = match &b.shape {
             Shape::Circle { radius } => format!("circle r = {radius}"),
             Shape::Box { width, height } => format!("box {width} × {height}"),
@@ -67,6 +69,9 @@ pub fn run(args: CheckArgs, verbosity: Verbosity) -> Result<()> {
             b.velocity.x,
             b.velocity.y
         );
+    }
+    if scene.bodies.len() > LISTED {
+        outln!(out, "    … and {} more", scene.bodies.len() - LISTED);
     }
     outln!(out, "  forces: {}", scene.forces.len());
     for f in &scene.forces {

@@ -43,8 +43,12 @@ pub fn write_trajectory(
             write_rows(&sim, &names, out)?;
         }
     } else {
+        let energy = crate::pipeline::EnergyWatch::new(&sim);
         for k in 1..frames {
-            if let Err(b) = sim.advance_to(scene.frame_time(k)) {
+            if let Err(b) = sim
+                .advance_to(scene.frame_time(k))
+                .and_then(|()| energy.check(&sim))
+            {
                 return Ok(Some(b));
             }
             write_rows(&sim, &names, out)?;

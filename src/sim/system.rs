@@ -358,6 +358,13 @@ impl System {
     pub fn potential_energy(&self, t: f64, pos: &[DVec2]) -> Option<f64> {
         self.forces.potential_energy(t, pos, &self.mass)
     }
+
+    /// Returns the mechanical energy, kinetic plus the potential of the conservative
+    /// forces, or `None` when the scene has an energy source (a time-varying force).
+    pub fn mechanical_energy(&self, pos: &[DVec2], vel: &[DVec2]) -> Option<f64> {
+        let u = self.forces.conservative_potential(pos, &self.mass)?;
+        Some(self.kinetic_energy(vel) + u)
+    }
 }
 
 /// Divides each force of a chunk by its body's mass: a = F/m, as F·(1/m).

@@ -204,13 +204,36 @@ fn frames_of_an_earlier_longer_run_do_not_stay_mixed_in() {
 }
 
 #[test]
+fn unstable_drag_is_stopped_by_its_growing_energy_at_the_first_frame() {
+    // h·k/m = 10: |v| grows 9 times a step, so by frame 1 (step 4) the kinetic energy is
+    // 9^8 ≈ 4.3e7 times its start, far past the limit of 10, and the run stops there.
+    let text = std::fs::read_to_string(example("drag.toml"))
+        .expect("example")
+        .replace("k = 1.0", "k = 1000.0");
+    let sandbox = Sandbox::new();
+    sandbox.write("unstable.toml", &text);
+    let out = sandbox.run(&["render", "unstable.toml", "--out", "f"]);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(3), "{err}");
+    assert!(err.contains("energy grew past 10 times"), "{err}");
+    assert!(err.contains("body `fastest`"), "{err}");
+    assert!(err.contains("dt ≤ 2·m/k = 0.002"), "{err}");
+    let m = manifest(&sandbox.path("f/manifest.json"));
+    assert_eq!(m["failure"]["step"], 4);
+    assert_eq!(m["frames_written"], 1);
+}
+
+#[test]
 fn a_blow_up_stops_with_the_body_step_and_exit_code_3() {
     // h·k/m = 0.01·1000 = 10: each step multiplies v by -9. The fastest puck (v0 = 9)
     // goes first: its drag force k·v = 1000·9·9^n passes f64::MAX ≈ 1.8e308 when
     // n > (308.25 - 3.95)/0.954 ≈ 319, so the velocity turns infinite at step 320.
+    // A time-varying force (zero here) is an energy source, which turns the energy
+    // watch off, so this run goes on until the state itself overflows.
     let text = std::fs::read_to_string(example("drag.toml"))
         .expect("example")
-        .replace("k = 1.0", "k = 1000.0");
+        .replace("k = 1.0", "k = 1000.0")
+        + "\n[[force]]\nkind = \"force\"\n";
     let sandbox = Sandbox::new();
     sandbox.write("unstable.toml", &text);
     let out = sandbox.run(&["render", "unstable.toml", "--out", "f"]);
@@ -320,4 +343,54 @@ fn a_scene_too_stiff_for_dopri5_stops_with_a_message_instead_of_running_forever(
     let m = manifest(&sandbox.path("f/manifest.json"));
     assert_eq!(m["status"], "failed");
     assert_eq!(m["frames_written"], 1);
+}
+
+#[test]
+fn energy_growing_without_a_source_stops_the_run_before_it_overflows() {
+    // An undamped spring with ω = 10 and explicit Euler at dt = 0.01: the energy grows
+    // by exactly 1 + (h·ω)² = 1.01 per step, so it passes 10 times its start after
+    // ln 10 / ln 1.01 ≈ 231.4 steps, at frame 58 (4 steps a frame), long before overflow.
+    let text = r#"
+        [simulation]
+        dt = 0.01
+        duration = 5.0
+        [render]
+        fps = 25
+        width = 64
+        height = 48
+        view = { min = [-3.0, -3.0], max = [3.0, 3.0] }
+        [[body]]
+        name = "bob"
+        mass = 1.0
+        position = [1.0, 0.0]
+        [[force]]
+        kind = "spring"
+        a = "bob"
+        b = [0.0, 0.0]
+        stiffness = 100.0
+    "#;
+    let sandbox = Sandbox::new();
+    sandbox.write("spring.toml", text);
+    let out = sandbox.run(&["render", "spring.toml", "--out", "f"]);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(3), "{err}");
+    assert!(err.contains("energy grew past 10 times"), "{err}");
+    assert!(err.contains("body `bob`"), "{err}");
+    assert!(err.contains("never stable on an undamped spring"), "{err}");
+    let m = manifest(&sandbox.path("f/manifest.json"));
+    assert_eq!(m["failure"]["step"], 232);
+    assert_eq!(m["frames_written"], 58);
+    // The same scene with symplectic Euler keeps its energy and renders every frame.
+    let out = sandbox.run(&[
+        "render",
+        "spring.toml",
+        "--out",
+        "g",
+        "--integrator",
+        "symplectic-euler",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    // And export stops the same way.
+    let out = sandbox.run(&["export", "spring.toml", "--out", "t.csv"]);
+    assert_eq!(out.status.code(), Some(3));
 }

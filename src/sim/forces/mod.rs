@@ -457,4 +457,26 @@ impl ForceSet {
         }
         Some(energy)
     }
+
+    /// Returns the potential energy of the conservative parts of the forces (gravity,
+    /// the elastic part of springs, central forces), or `None` when a time-varying
+    /// force is present. Drag and damping only ever remove energy, so without a
+    /// time-varying force the kinetic plus this potential energy cannot grow in the
+    /// exact dynamics: growth is the integrator's doing.
+    pub fn conservative_potential(&self, pos: &[DVec2], mass: &[f64]) -> Option<f64> {
+        if !self.time_varying.is_empty() {
+            return None;
+        }
+        let mut energy = 0.0;
+        for f in &self.gravity {
+            energy += f.potential_energy(pos, mass);
+        }
+        for f in &self.springs {
+            energy += f.elastic_energy(pos);
+        }
+        for f in &self.central {
+            energy += f.potential_energy(pos, mass);
+        }
+        Some(energy)
+    }
 }

@@ -75,11 +75,16 @@ impl Spring {
         if self.damping != 0.0 {
             return None;
         }
+        Some(self.elastic_energy(pos))
+    }
+
+    /// Returns the elastic energy ½·stiffness·(ℓ - rest_length)², damped or not.
+    pub fn elastic_energy(&self, pos: &[DVec2]) -> f64 {
         let other = match self.b {
             Anchor::Body(b) => pos[b as usize],
             Anchor::Point(p) => p,
         };
         let stretch = (pos[self.a as usize] - other).length() - self.rest_length;
-        Some(0.5 * self.stiffness * stretch * stretch)
+        0.5 * self.stiffness * stretch * stretch
     }
 }
