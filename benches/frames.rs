@@ -152,6 +152,7 @@ fn stages(c: &mut Criterion) {
                 force: None,
                 trail: None,
                 traces: None,
+                compare: None,
             };
             let suffix = if static_layer { "+static-layer" } else { "" };
             let mut pixmap = renderer.new_frame();
@@ -199,6 +200,7 @@ fn compression(c: &mut Criterion) {
         force: None,
         trail: None,
         traces: None,
+        compare: None,
     };
     let pixmap = renderer.draw(&view);
     let mut group = c.benchmark_group("compression");

@@ -72,6 +72,8 @@ struct Job {
     trail: Option<Vec<Arc<[DVec2]>>>,
     /// Trace curves' points at frames 0 ..= index, when the scene has traces.
     traces: Option<Vec<Arc<[DVec2]>>>,
+    /// The compared runs, when the scene sets `compare`.
+    compare: Option<Arc<crate::compare::CompareFrame>>,
 }
 
 /// Stage times summed over the workers, in nanoseconds.
@@ -193,7 +195,8 @@ fn render_full(
     // Trace curves need every frame's values from t = 0, which checkpoints do not hold,
     // so a scene with traces always starts at t = 0.
     let key = RunKey::new(scene, integrator);
-    let has_traces = TraceRecorder::new(scene).is_some();
+    // Comparisons, like traces, keep a history from t = 0.
+    let has_traces = TraceRecorder::new(scene).is_some() || !scene.simulation.compare.is_empty();
     let start: Option<Checkpoint> = extras
         .checkpoints
         .as_ref()
@@ -273,6 +276,7 @@ fn render_full(
         let mut history: Vec<Arc<[DVec2]>> = Vec::new();
         let mut traces = TraceRecorder::new(scene);
         let energy_watch = EnergyWatch::new(&sim);
+        let mut comparison = crate::compare::Comparison::new(scene);
         let mut first = 0;
         if let Some(c) = &start {
             sim = c.restore(scene, integrator);
@@ -293,6 +297,8 @@ fn render_full(
                 break;
             }
             let state = sim.state();
+            // Compared runs advance at every frame, drawn or not, to keep their errors.
+            let compare = comparison.as_mut().map(|c| Arc::new(c.advance_to(state.t)));
             let pos: Arc<[DVec2]> = Arc::from(state.pos.as_slice());
             if trails {
                 history.push(Arc::clone(&pos));
@@ -330,6 +336,7 @@ fn render_full(
                 force,
                 trail: trails.then(|| history.clone()),
                 traces: traces.as_ref().map(|r| r.history().to_vec()),
+                compare,
             };
             simulate += started.elapsed();
             if sender.send(job).is_err() {
@@ -450,6 +457,7 @@ fn draw_and_write(
         force: job.force.as_deref(),
         trail: job.trail.as_deref(),
         traces: job.traces.as_deref(),
+        compare: job.compare.as_deref(),
     };
     renderer.draw_into(&view, &mut buffers.pixmap);
     let drawn = StageClock::add(&clock.draw, started);

@@ -83,12 +83,17 @@ pub fn render_frame(scene: &Scene, frame: u64) -> Result<Pixmap> {
     let renderer = Renderer::new(scene, ArrowScales::fit(scene, &sim.state().vel, &force));
     let mut trail: Vec<std::sync::Arc<[DVec2]>> = Vec::new();
     let mut traces = TraceRecorder::new(scene);
+    let mut compared = crate::compare::Comparison::new(scene);
+    let mut comparison = None;
     for k in 0..=frame {
         sim.advance_to(scene.frame_time(k))
             .map_err(|b| Error::BlowUp(pipeline::blow_up_message(scene, &b)))?;
         let state = sim.state();
         if scene.render.trails {
             trail.push(std::sync::Arc::from(state.pos.as_slice()));
+        }
+        if let Some(c) = &mut compared {
+            comparison = Some(c.advance_to(state.t));
         }
         if let Some(traces) = &mut traces {
             traces.record(state.t, &state.pos, &state.vel);
@@ -106,6 +111,7 @@ pub fn render_frame(scene: &Scene, frame: u64) -> Result<Pixmap> {
         force: renderer.needs_forces().then_some(force.as_slice()),
         trail: scene.render.trails.then_some(trail.as_slice()),
         traces: traces.as_ref().map(|t| t.history()),
+        compare: comparison.as_ref(),
     };
     Ok(renderer.draw(&view))
 }

@@ -13,6 +13,7 @@
 pub mod bodies;
 pub mod camera;
 pub mod clip;
+pub mod compare;
 pub mod encode;
 pub mod fastpng;
 pub mod layers;
@@ -53,6 +54,8 @@ pub struct FrameView<'a> {
     /// The points of the scene's trace curves at every frame so far (0 ..= index), one
     /// per trace, when the scene has traces (see [`layers::TraceRecorder`]).
     pub traces: Option<&'a [Arc<[DVec2]>]>,
+    /// The compared runs at this frame, when the scene sets `compare`.
+    pub compare: Option<&'a crate::compare::CompareFrame>,
 }
 
 /// World length per unit of velocity and per unit of force, for the arrows.
@@ -113,6 +116,8 @@ pub struct Renderer {
     arrows: ArrowScales,
     /// Axes, fields, curves, legend and HUD.
     overlay: layers::Overlay,
+    /// The simulated time of the last frame, for the comparison's error strip.
+    duration: f64,
 }
 
 /// A look shared by one or more bodies, and its sprites when it is stamped.
@@ -226,6 +231,7 @@ impl Renderer {
             arrow_bodies,
             arrows,
             overlay,
+            duration: scene.frame_time(r.frame_count - 1).max(f64::MIN_POSITIVE),
         }
     }
 
@@ -348,5 +354,8 @@ impl Renderer {
             }
         }
         self.overlay.draw_frame(pixmap, &self.static_layer, frame);
+        if let Some(compare) = frame.compare {
+            compare::draw(pixmap, &self.camera, compare, self.duration);
+        }
     }
 }

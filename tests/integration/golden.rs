@@ -23,6 +23,7 @@ const SCENES: &[&str] = &[
     "spring.toml",
     "centre-of-mass.toml",
     "drag-phase.toml",
+    "compare.toml",
 ];
 
 /// Our references are exact.

@@ -410,6 +410,7 @@ fn stamping_looks_like_drawing_every_path_at_its_exact_position() {
         force: None,
         trail: None,
         traces: None,
+        compare: None,
     };
     let stamped = Renderer::with_drawing(&s, arrows, BodyDrawing::Sprites).draw(&view);
     let drawn = Renderer::with_drawing(&s, arrows, BodyDrawing::Paths).draw(&view);
@@ -466,6 +467,7 @@ fn a_frame_drawn_into_a_reused_pixmap_equals_a_fresh_one_and_skips_what_is_outsi
             force: None,
             trail: None,
             traces: None,
+            compare: None,
         }
     }
     renderer.draw_into(&view(&state), &mut reused);

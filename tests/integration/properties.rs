@@ -138,6 +138,7 @@ fn render_all(text: &str) -> Vec<Vec<u8>> {
             force: Some(&force),
             trail: Some(&trail),
             traces: None,
+            compare: None,
         };
         let pixmap = renderer.draw(&view);
         frames.push(

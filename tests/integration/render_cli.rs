@@ -13,6 +13,7 @@ const EXAMPLES: &[(&str, u64)] = &[
     ("terminal-velocity.toml", 101),
     ("spring.toml", 151),
     ("centre-of-mass.toml", 101),
+    ("compare.toml", 51),
     ("drag-phase.toml", 126),
 ];
 
