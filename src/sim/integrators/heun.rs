@@ -49,18 +49,13 @@ impl Heun {
     ) -> u32 {
         let half = 0.5 * h;
         system.accelerations(t, pos, vel, &mut self.acc_start);
-        for (((rp, vp), (r, v)), a) in self
-            .pred_pos
-            .iter_mut()
-            .zip(self.pred_vel.iter_mut())
-            .zip(pos.iter().zip(vel.iter()))
-            .zip(&self.acc_start)
-        {
-            // r̃ = r + h·v.
-            *rp = *r + h * *v;
-            // ṽ = v + h·a(t, r, v).
-            *vp = *v + h * *a;
-        }
+        // The state an Euler sub-step of h reaches: r̃, ṽ.
+        super::euler_substep(
+            h,
+            (pos, vel, &self.acc_start),
+            &mut self.pred_pos,
+            &mut self.pred_vel,
+        );
         system.accelerations(t + h, &self.pred_pos, &self.pred_vel, &mut self.acc_end);
         for (((r, v), vp), (a0, a1)) in pos
             .iter_mut()

@@ -48,18 +48,13 @@ impl Midpoint {
     ) -> u32 {
         let half = 0.5 * h;
         system.accelerations(t, pos, vel, &mut self.acc);
-        for (((rm, vm), (r, v)), a) in self
-            .mid_pos
-            .iter_mut()
-            .zip(self.mid_vel.iter_mut())
-            .zip(pos.iter().zip(vel.iter()))
-            .zip(&self.acc)
-        {
-            // r_mid = r + (h/2)·v.
-            *rm = *r + half * *v;
-            // v_mid = v + (h/2)·a(t, r, v).
-            *vm = *v + half * *a;
-        }
+        // The state an Euler sub-step of h/2 reaches: r_mid, v_mid.
+        super::euler_substep(
+            half,
+            (pos, vel, &self.acc),
+            &mut self.mid_pos,
+            &mut self.mid_vel,
+        );
         system.accelerations(t + half, &self.mid_pos, &self.mid_vel, &mut self.acc);
         for (((r, v), vm), a) in pos
             .iter_mut()

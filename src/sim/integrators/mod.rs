@@ -277,3 +277,26 @@ impl Stepper {
         }
     }
 }
+
+/// Writes the state a sub-step of explicit Euler of length `c` reaches from (r, v) with
+/// acceleration a, the first stage of the midpoint and Heun methods:
+///
+///   r_out = r + c·v,  v_out = v + c·a
+pub(crate) fn euler_substep(
+    c: f64,
+    (pos, vel, acc): (&[DVec2], &[DVec2], &[DVec2]),
+    out_pos: &mut [DVec2],
+    out_vel: &mut [DVec2],
+) {
+    for (((ro, vo), (r, v)), a) in out_pos
+        .iter_mut()
+        .zip(out_vel.iter_mut())
+        .zip(pos.iter().zip(vel))
+        .zip(acc)
+    {
+        // r_out = r + c·v.
+        *ro = *r + c * *v;
+        // v_out = v + c·a.
+        *vo = *v + c * *a;
+    }
+}
