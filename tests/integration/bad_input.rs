@@ -4,23 +4,7 @@
 use crate::util::{stderr, Sandbox};
 
 /// A valid scene to break one line at a time.
-const GOOD: &str = r#"name = "t"
-[simulation]
-dt = 0.01
-duration = 1.0
-[render]
-width = 64
-height = 48
-fps = 25
-view = { min = [-1.0, -1.0], max = [1.0, 1.0] }
-[[body]]
-name = "puck"
-mass = 1.0
-velocity = [1.0, 0.0]
-[[force]]
-kind = "drag"
-k = 1.0
-"#;
+use crate::util::GOOD_SCENE as GOOD;
 
 /// Replaces `from` in the good scene with `to`, checking the replacement happened.
 fn broken(from: &str, to: &str) -> String {

@@ -3,24 +3,8 @@
 
 use crate::util::{example, stderr, stdout, Sandbox};
 
-/// A valid scene to break and to override.
-const GOOD: &str = r#"name = "t"
-[simulation]
-dt = 0.01
-duration = 1.0
-[render]
-width = 64
-height = 48
-fps = 25
-view = { min = [-1.0, -1.0], max = [1.0, 1.0] }
-[[body]]
-name = "puck"
-mass = 1.0
-velocity = [1.0, 0.0]
-[[force]]
-kind = "drag"
-k = 1.0
-"#;
+/// A valid scene to break one line at a time.
+use crate::util::GOOD_SCENE as GOOD;
 
 /// Runs `check` on `text` with extra arguments; returns the exit code and stderr.
 fn check(text: &str, extra: &[&str]) -> (Option<i32>, String) {

@@ -132,3 +132,22 @@ pub fn stderr(out: &Output) -> String {
 pub fn stdout(out: &Output) -> String {
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
+
+/// A small valid scene that tests break one line at a time, or override.
+pub const GOOD_SCENE: &str = r#"name = "t"
+[simulation]
+dt = 0.01
+duration = 1.0
+[render]
+width = 64
+height = 48
+fps = 25
+view = { min = [-1.0, -1.0], max = [1.0, 1.0] }
+[[body]]
+name = "puck"
+mass = 1.0
+velocity = [1.0, 0.0]
+[[force]]
+kind = "drag"
+k = 1.0
+"#;
