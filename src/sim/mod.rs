@@ -15,7 +15,6 @@ pub mod forces;
 pub mod integrators;
 pub mod scalar_ode;
 mod simulation;
-pub mod stability;
 pub mod system;
 
 pub use forces::{Anchor, ForceSpec, Selection};

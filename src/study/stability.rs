@@ -312,6 +312,79 @@ pub fn theory(problem: StabilityProblem, kind: IntegratorKind) -> Theory {
     }
 }
 
+/// Returns a sentence giving the step that theory says would be stable for this
+/// scene's linear drag and springs with this integrator, or `None` when neither
+/// applies or theory has no limit for the method.
+pub fn stable_step_hint(
+    kind: IntegratorKind,
+    masses: &[f64],
+    forces: &[ForceSpec],
+) -> Option<String> {
+    let n = masses.len();
+    // The fastest drag rate k/m of any body: the sum of every drag on it over its mass.
+    let mut drag_rate = vec![0.0f64; n];
+    // The fastest spring frequency ω = √(stiffness/μ), μ the reduced mass.
+    let mut omega = 0.0f64;
+    for f in forces {
+        match f {
+            ForceSpec::Drag { k, bodies } => {
+                bodies.for_each(n, |i| drag_rate[i] += k / masses[i]);
+            }
+            ForceSpec::Spring {
+                a, b, stiffness, ..
+            } => {
+                let ma = masses[*a as usize];
+                let mu = match b {
+                    Anchor::Body(b) => {
+                        let mb = masses[*b as usize];
+                        ma * mb / (ma + mb)
+                    }
+                    Anchor::Point(_) => ma,
+                };
+                omega = omega.max((stiffness / mu).sqrt());
+            }
+            _ => {}
+        }
+    }
+    // An adaptive method chooses its own steps: no fixed step to quote.
+    if kind.is_adaptive() {
+        return None;
+    }
+    let drag_limit = theory(StabilityProblem::Drag, kind).boundary;
+    let spring_limit = theory(StabilityProblem::Spring, kind).boundary;
+    let rate = drag_rate.iter().copied().fold(0.0, f64::max);
+    let mut limits = Vec::new();
+    if rate > 0.0 {
+        limits.push((
+            drag_limit / rate,
+            format!(
+                "linear drag with k/m = {rate} needs dt ≤ {drag_limit}·m/k = {}",
+                drag_limit / rate
+            ),
+        ));
+    }
+    if omega > 0.0 {
+        if spring_limit == 0.0 {
+            return Some(format!(
+                "{kind} is never stable on an undamped spring (here ω = {omega}): its energy grows every step; use symplectic-euler or verlet with dt < 2/ω = {}, or rk4 with dt ≤ 2√2/ω = {}",
+                2.0 / omega,
+                2.0 * SQRT_2 / omega
+            ));
+        }
+        limits.push((
+            spring_limit / omega,
+            format!(
+                "a spring with ω = {omega} needs dt < {spring_limit}/ω = {}",
+                spring_limit / omega
+            ),
+        ));
+    }
+    limits
+        .into_iter()
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, text)| format!("linear stability theory for {kind}: {text}"))
+}
+
 /// Returns theory's per-step amplification of `kind` on `problem` at the dimensionless
 /// step `s`, from the stability polynomial (or, for the symplectic methods on the
 /// spring, from the trace and determinant of their one-step map).
@@ -783,5 +856,31 @@ mod tests {
         assert_eq!(v.first().copied(), Some(0.01));
         assert_eq!(v.last().copied(), Some(10.0));
         assert!((v[1] - 0.1).abs() < 1e-15 && (v[2] - 1.0).abs() < 1e-14);
+    }
+
+    #[test]
+    fn the_hint_names_the_tightest_limit() {
+        let forces = [ForceSpec::Drag {
+            k: 1000.0,
+            bodies: Selection::All,
+        }];
+        let hint = stable_step_hint(IntegratorKind::Euler, &[1.0, 2.0], &forces).expect("a hint");
+        assert!(hint.contains("dt ≤ 2·m/k = 0.002"), "{hint}");
+        let spring = [ForceSpec::Spring {
+            a: 0,
+            b: Anchor::Point(glam::DVec2::ZERO),
+            stiffness: 4.0,
+            rest_length: 0.0,
+            damping: 0.0,
+        }];
+        let hint = stable_step_hint(IntegratorKind::Euler, &[1.0], &spring).expect("a hint");
+        assert!(hint.contains("never stable"), "{hint}");
+        let hint =
+            stable_step_hint(IntegratorKind::SymplecticEuler, &[1.0], &spring).expect("a hint");
+        assert!(hint.contains("dt < 2/ω = 1"), "{hint}");
+        assert_eq!(
+            stable_step_hint(IntegratorKind::Dopri5, &[1.0], &spring),
+            None
+        );
     }
 }
