@@ -325,7 +325,8 @@ impl Simulation {
             let (accepted, h_new) = adaptive.controller.decide(err, h);
             if accepted || h <= h_min {
                 let t_new = if lands { t_limit } else { t + h };
-                self.stepper.accept(t_new, &mut state.pos, &mut state.vel);
+                let finite = self.stepper.accept(t_new, &mut state.pos, &mut state.vel);
+                self.system.record_finite_step(&state.pos, finite);
                 state.t = t_new;
                 self.steps += 1;
                 adaptive.h_next = Some(if lands { h_new.max(proposed) } else { h_new });

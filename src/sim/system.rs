@@ -67,6 +67,11 @@ pub struct System {
     /// loops read no mass array.
     uniform_mass: Option<(f64, f64)>,
     forces: ForceSet,
+    /// True when every force but the springs acts on every body, so that the forces
+    /// can be summed a few bodies at a time in registers.
+    whole: bool,
+    /// True when some force other than a spring acts.
+    per_body: bool,
     /// Left by a step that checked, as it wrote them, that the positions and
     /// velocities it wrote are finite: the address of those positions, or 0. The check
     /// after the step takes it instead of reading the whole state again
@@ -81,6 +86,8 @@ impl Clone for System {
             inv_mass: self.inv_mass.clone(),
             uniform_mass: self.uniform_mass,
             forces: self.forces.clone(),
+            whole: self.whole,
+            per_body: self.per_body,
             // A record belongs to the state its step wrote, not to a copy.
             finite_step: AtomicUsize::new(0),
         }
@@ -100,11 +107,15 @@ impl System {
             _ => None,
         };
         let forces = ForceSet::new(forces, mass.len());
+        let whole = forces.acts_on_whole_chunk(0, mass.len());
+        let per_body = forces.has_per_body();
         System {
             mass,
             inv_mass,
             uniform_mass,
             forces,
+            whole,
+            per_body,
             finite_step: AtomicUsize::new(0),
         }
     }
@@ -173,6 +184,7 @@ impl System {
     /// Writes the acceleration of every body's centre of mass at time `t` into `acc`.
     ///
     /// Equation 11, solved for the acceleration: a_CM = F_T / M.
+    #[inline]
     pub fn accelerations(&self, t: f64, pos: &[DVec2], vel: &[DVec2], acc: &mut [DVec2]) {
         self.forces_or_accelerations(t, pos, vel, acc, true);
     }
@@ -195,8 +207,7 @@ impl System {
         let mass = self.masses_view().chunk(start, acc.len());
         acc.fill(DVec2::ZERO);
         self.forces
-            .accumulate_before_springs(t, start, vel, mass, acc);
-        self.forces.accumulate_after_springs(start, pos, mass, acc);
+            .accumulate_per_body(t, start, pos, vel, mass, acc);
         divide_by_mass(mass, acc);
     }
 
@@ -296,7 +307,8 @@ impl System {
 
     /// Computes forces, or accelerations when `divide`, chunk by chunk; chunks are
     /// split across threads for many bodies. Springs couple bodies, so they are added
-    /// on one thread, in file order, between the families summed before and after them.
+    /// on one thread, in file order, after the forces that act on each body alone.
+    #[inline]
     fn forces_or_accelerations(
         &self,
         t: f64,
@@ -308,32 +320,143 @@ impl System {
         debug_assert_eq!(pos.len(), self.len());
         debug_assert_eq!(vel.len(), self.len());
         debug_assert_eq!(out.len(), self.len());
+        if self.whole && out.len() < PARALLEL_MIN {
+            self.forces_in_lanes(t, pos, vel, out, divide);
+        } else {
+            self.forces_by_chunk(t, pos, vel, out, divide);
+        }
+    }
+
+    /// The general form of [`System::forces_or_accelerations`]: family by family over
+    /// chunks of bodies, on several threads for many bodies.
+    #[inline(never)]
+    fn forces_by_chunk(
+        &self,
+        t: f64,
+        pos: &[DVec2],
+        vel: &[DVec2],
+        out: &mut [DVec2],
+        divide: bool,
+    ) {
         let masses = self.masses_view();
-        let springs = self.forces.has_springs();
-        let before = |start: usize, out: &mut [DVec2]| {
+        let per_body = |start: usize, out: &mut [DVec2]| {
             let mass = masses.chunk(start, out.len());
-            let vel = &vel[start..start + out.len()];
+            let range = start..start + out.len();
             out.fill(DVec2::ZERO);
             self.forces
-                .accumulate_before_springs(t, start, vel, mass, out);
+                .accumulate_per_body(t, start, &pos[range.clone()], &vel[range], mass, out);
         };
-        let after = |start: usize, out: &mut [DVec2]| {
-            let mass = masses.chunk(start, out.len());
-            let pos = &pos[start..start + out.len()];
-            self.forces.accumulate_after_springs(start, pos, mass, out);
-            if divide {
-                divide_by_mass(mass, out);
-            }
-        };
-        if springs {
-            for_each_chunk(out, before);
+        if self.forces.has_springs() {
+            for_each_chunk(out, per_body);
             self.forces.accumulate_springs(pos, vel, out);
-            for_each_chunk(out, after);
+            if divide {
+                for_each_chunk(out, |start, out| {
+                    divide_by_mass(masses.chunk(start, out.len()), out)
+                });
+            }
         } else {
             for_each_chunk(out, |start, out| {
-                before(start, out);
-                after(start, out);
+                per_body(start, out);
+                if divide {
+                    divide_by_mass(masses.chunk(start, out.len()), out);
+                }
             });
+        }
+    }
+
+    /// The serial form of [`System::forces_or_accelerations`] for a system in which
+    /// every force but the springs acts on every body: the per-body forces of a few
+    /// bodies at a time are summed in registers ([`ForceSet::forces_on`]) and written
+    /// once, with no pass to zero the buffer first, and without springs the division
+    /// by mass happens in the same pass. This is what keeps the cost of a call low for
+    /// a system of a few bodies, where an adaptive method spends its time; the sums
+    /// and products are those of the chunked path, so the bits are too.
+    #[inline(always)]
+    fn forces_in_lanes(
+        &self,
+        t: f64,
+        pos: &[DVec2],
+        vel: &[DVec2],
+        out: &mut [DVec2],
+        divide: bool,
+    ) {
+        let springs = self.forces.has_springs();
+        if !self.per_body {
+            // Only springs act (or nothing does): they add into zeros, and nothing else
+            // needs a pass.
+            for f in out.iter_mut() {
+                *f = DVec2::ZERO;
+            }
+        } else {
+            // Without springs the per-body sum is the whole force, and a = F·(1/m) can
+            // be taken at once; with them, the division waits until they are added.
+            self.per_body_forces(t, pos, vel, out, divide && !springs);
+        }
+        if springs {
+            self.forces.accumulate_springs(pos, vel, out);
+        }
+        if divide && (springs || !self.per_body) {
+            divide_by_mass(self.masses_view(), out);
+        }
+    }
+
+    /// Writes into `out` the per-body forces (all but the springs) on every body, or
+    /// the accelerations F·(1/m) when `scale`. Kept out of line so that a system of
+    /// springs alone, which skips it, calls no more code than it runs.
+    #[inline(never)]
+    fn per_body_forces(
+        &self,
+        t: f64,
+        pos: &[DVec2],
+        vel: &[DVec2],
+        out: &mut [DVec2],
+        scale: bool,
+    ) {
+        match self.masses_view() {
+            Masses::Uniform { m, inv } => {
+                self.per_body_in_lanes(t, pos, vel, out, |_| m, |_| inv, scale)
+            }
+            Masses::PerBody { m, inv } => {
+                self.per_body_in_lanes(t, pos, vel, out, |i| m[i], |i| inv[i], scale)
+            }
+        }
+    }
+
+    /// Writes into `out` the per-body forces (all but the springs) on every body, or
+    /// the accelerations F·(1/m) when `scale`; `m(i)` and `inv(i)` give body i's mass
+    /// and 1/m.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn per_body_in_lanes(
+        &self,
+        t: f64,
+        pos: &[DVec2],
+        vel: &[DVec2],
+        out: &mut [DVec2],
+        m: impl Fn(usize) -> f64,
+        inv: impl Fn(usize) -> f64,
+        scale: bool,
+    ) {
+        let n = out.len();
+        let (pos, vel) = (&pos[..n], &vel[..n]);
+        let mut o_lanes = out.chunks_exact_mut(LANES);
+        for (k, o) in (&mut o_lanes).enumerate() {
+            let i = k * LANES;
+            let rr: [DVec2; LANES] = std::array::from_fn(|j| pos[i + j]);
+            let vv: [DVec2; LANES] = std::array::from_fn(|j| vel[i + j]);
+            let mm: [f64; LANES] = std::array::from_fn(|j| m(i + j));
+            let f = self.forces.forces_on(t, &rr, &vv, &mm);
+            for j in 0..LANES {
+                // a = F·(1/m), or the force F itself.
+                o[j] = if scale { f[j] * inv(i + j) } else { f[j] };
+            }
+        }
+        let done = n - n % LANES;
+        for (j, o) in o_lanes.into_remainder().iter_mut().enumerate() {
+            let i = done + j;
+            let f = self.forces.forces_on(t, &[pos[i]], &[vel[i]], &[m(i)]);
+            // a = F·(1/m), or the force F itself.
+            *o = if scale { f[0] * inv(i) } else { f[0] };
         }
     }
 
@@ -523,5 +646,114 @@ fn detect_avx2() -> bool {
     #[cfg(not(target_arch = "x86_64"))]
     {
         false
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::forces::{Anchor, Selection};
+
+    /// Every family, each acting on every body, plus springs between bodies and to a
+    /// point: the case the register path ([`System::forces_in_lanes`]) serves.
+    fn all_families(n: usize) -> Vec<ForceSpec> {
+        vec![
+            ForceSpec::Gravity {
+                g: DVec2::new(0.0, -9.81),
+                bodies: Selection::All,
+            },
+            ForceSpec::Drag {
+                k: 0.3,
+                bodies: Selection::All,
+            },
+            ForceSpec::QuadraticDrag {
+                c: 0.07,
+                bodies: Selection::All,
+            },
+            ForceSpec::TimeVarying {
+                f0: DVec2::new(0.1, 0.2),
+                f1: DVec2::new(2.0, -1.0),
+                bodies: Selection::All,
+            },
+            ForceSpec::Spring {
+                a: 0,
+                b: Anchor::Body(n as u32 - 1),
+                stiffness: 5.0,
+                rest_length: 0.5,
+                damping: 0.2,
+            },
+            ForceSpec::Central {
+                centre: DVec2::new(0.3, -0.4),
+                strength: 2.0,
+                bodies: Selection::All,
+            },
+            ForceSpec::Spring {
+                a: 1,
+                b: Anchor::Point(DVec2::new(1.0, 1.0)),
+                stiffness: 3.0,
+                rest_length: 0.0,
+                damping: 0.1,
+            },
+        ]
+    }
+
+    fn bodies(n: usize) -> (Vec<DVec2>, Vec<DVec2>) {
+        (0..n)
+            .map(|i| {
+                let x = i as f64;
+                (
+                    DVec2::new(0.37 * x - 1.0, (0.91 * x).sin()),
+                    DVec2::new((1.3 * x).cos(), 0.1 * x - 0.4),
+                )
+            })
+            .unzip()
+    }
+
+    #[test]
+    fn the_register_path_gives_the_bits_of_the_family_by_family_sum() {
+        // 11 bodies: one group of LANES and a remainder; masses equal and unequal;
+        // with every family, with springs only, and with per-body forces only.
+        let n = 11;
+        let (pos, vel) = bodies(n);
+        let t = 0.7;
+        let specs = all_families(n);
+        let springs_only: Vec<ForceSpec> = specs
+            .iter()
+            .filter(|s| matches!(s, ForceSpec::Spring { .. }))
+            .cloned()
+            .collect();
+        let no_springs: Vec<ForceSpec> = specs
+            .iter()
+            .filter(|s| !matches!(s, ForceSpec::Spring { .. }))
+            .cloned()
+            .collect();
+        let unequal: Vec<f64> = (0..n).map(|i| 0.5 + 0.25 * i as f64).collect();
+        for forces in [&specs, &springs_only, &no_springs] {
+            for mass in [vec![2.0; n], unequal.clone()] {
+                let system = System::new(mass.clone(), forces);
+                assert!(system.whole);
+                // The reference: every family added in the documented order into
+                // zeros, then a = F·(1/m).
+                let mut expected = vec![DVec2::ZERO; n];
+                let masses = Masses::PerBody {
+                    m: &mass,
+                    inv: &system.inv_mass,
+                };
+                system
+                    .forces
+                    .accumulate(t, &pos, &vel, masses, &mut expected);
+                let mut force = vec![DVec2::NAN; n];
+                system.net_forces(t, &pos, &vel, &mut force);
+                let mut acc = vec![DVec2::NAN; n];
+                system.accelerations(t, &pos, &vel, &mut acc);
+                for i in 0..n {
+                    let bits = |v: DVec2| (v.x.to_bits(), v.y.to_bits());
+                    assert_eq!(bits(force[i]), bits(expected[i]), "force on body {i}");
+                    let a = expected[i] * (1.0 / mass[i]);
+                    assert_eq!(bits(acc[i]), bits(a), "acceleration of body {i}");
+                }
+                assert!(acc.iter().filter(|a| **a != DVec2::ZERO).count() >= 3);
+            }
+        }
     }
 }

@@ -293,6 +293,17 @@ impl ForceSet {
             || self.springs.iter().any(|s| s.damping != 0.0)
     }
 
+    /// Returns true when some force that acts on each body alone (all but the springs)
+    /// is present.
+    #[inline]
+    pub fn has_per_body(&self) -> bool {
+        !(self.gravity.is_empty()
+            && self.drag.is_empty()
+            && self.quadratic_drag.is_empty()
+            && self.time_varying.is_empty()
+            && self.central.is_empty())
+    }
+
     /// Returns true when some spring couples bodies (or a body to a point). Every other
     /// force acts on each body alone, so without springs each body's acceleration
     /// depends only on its own state and the time.
@@ -303,9 +314,11 @@ impl ForceSet {
     /// Adds every force at time `t` into `force` (which the caller has zeroed).
     ///
     /// Forces are summed family by family in a fixed order: gravity, linear drag,
-    /// quadratic drag, time-varying forces, springs, central forces; within a family,
-    /// in file order. Every way of computing the forces (whole arrays, chunks, threads)
-    /// adds in this order, so they agree to the bit.
+    /// quadratic drag, time-varying forces, central forces, springs; within a family,
+    /// in file order. Every way of computing the forces (whole arrays, chunks, threads,
+    /// a few bodies in registers) adds in this order, so they agree to the bit. The
+    /// springs come last because they alone couple bodies: everything before them can
+    /// be summed body by body.
     pub fn accumulate(
         &self,
         t: f64,
@@ -315,19 +328,20 @@ impl ForceSet {
         force: &mut [DVec2],
     ) {
         debug_assert_eq!(pos.len(), self.n);
-        self.accumulate_before_springs(t, 0, vel, mass, force);
+        self.accumulate_per_body(t, 0, pos, vel, mass, force);
         self.accumulate_springs(pos, vel, force);
-        self.accumulate_after_springs(0, pos, mass, force);
     }
 
-    /// Adds the forces summed before springs (gravity, drag, quadratic drag and
-    /// time-varying forces) on the chunk of bodies `start..start + force.len()`, whose
-    /// velocities are `vel` and masses `mass`.
+    /// Adds the forces that act on each body alone (gravity, drag, quadratic drag,
+    /// time-varying and central forces: all but the springs) on the chunk of bodies
+    /// `start..start + force.len()`, whose positions are `pos`, velocities `vel` and
+    /// masses `mass`.
     #[inline(always)]
-    pub fn accumulate_before_springs(
+    pub fn accumulate_per_body(
         &self,
         t: f64,
         start: usize,
+        pos: &[DVec2],
         vel: &[DVec2],
         mass: Masses<'_>,
         force: &mut [DVec2],
@@ -343,6 +357,9 @@ impl ForceSet {
         }
         for f in &self.time_varying {
             f.accumulate(t, start, force);
+        }
+        for f in &self.central {
+            f.accumulate(start, pos, mass, force);
         }
     }
 
@@ -417,24 +434,10 @@ impl ForceSet {
     }
 
     /// Adds every spring's force, in file order, to both its ends (whole arrays).
+    #[inline(always)]
     pub fn accumulate_springs(&self, pos: &[DVec2], vel: &[DVec2], force: &mut [DVec2]) {
         for f in &self.springs {
             f.accumulate(pos, vel, force);
-        }
-    }
-
-    /// Adds the forces summed after springs (central forces) on the chunk of bodies
-    /// `start..start + force.len()`, whose positions are `pos` and masses `mass`.
-    #[inline(always)]
-    pub fn accumulate_after_springs(
-        &self,
-        start: usize,
-        pos: &[DVec2],
-        mass: Masses<'_>,
-        force: &mut [DVec2],
-    ) {
-        for f in &self.central {
-            f.accumulate(start, pos, mass, force);
         }
     }
 

@@ -31,7 +31,7 @@ pub struct Spring {
 
 impl Spring {
     /// Returns the force on body a.
-    #[inline]
+    #[inline(always)]
     fn force_on_a(&self, d: DVec2, relative_velocity: DVec2) -> DVec2 {
         let len_sq = d.length_squared();
         if self.rest_length == 0.0 {
@@ -53,7 +53,7 @@ impl Spring {
     }
 
     /// Adds the spring's force to both ends.
-    #[inline]
+    #[inline(always)]
     pub fn accumulate(&self, pos: &[DVec2], vel: &[DVec2], force: &mut [DVec2]) {
         let a = self.a as usize;
         match self.b {

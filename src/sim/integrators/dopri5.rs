@@ -116,6 +116,9 @@ pub struct Dopri5 {
     a1_valid: bool,
     /// The time at the end of the last attempted step.
     candidate_t: f64,
+    /// True when the last attempt found every position and velocity of its candidate
+    /// finite (false: not known).
+    candidate_finite: bool,
 }
 
 impl Dopri5 {
@@ -143,6 +146,7 @@ impl Dopri5 {
             a1_vel: z(),
             a1_valid: false,
             candidate_t: 0.0,
+            candidate_finite: false,
         }
     }
 
@@ -352,7 +356,11 @@ impl Dopri5 {
         let (e1, e3, e4, e5, e6, e7) = (h * E1, h * E3, h * E4, h * E5, h * E6, h * E7);
         let (atol, rtol) = (DVec2::splat(tol.atol), DVec2::splat(tol.rtol));
         let mut sum = DVec2::ZERO;
+        // Σ (R7 + V7): finite only if every component of the candidate is, so that the
+        // check after the step need not read the state again.
+        let mut all = DVec2::ZERO;
         for i in 0..n {
+            all += r1[i] + v7[i];
             let er = e1 * v0[i] + e3 * v3[i] + e4 * v4[i] + e5 * v5[i] + e6 * v6[i] + e7 * v7[i];
             let ev = e1 * a1[i] + e3 * a3[i] + e4 * a4[i] + e5 * a5[i] + e6 * a6[i] + e7 * a7[i];
             let sr = atol + rtol * r0[i].abs().max(r1[i].abs());
@@ -361,6 +369,7 @@ impl Dopri5 {
             sum += qr * qr + qv * qv;
         }
         self.candidate_t = t + h;
+        self.candidate_finite = (all.x + all.y).is_finite();
         let error = if n == 0 {
             0.0
         } else {
@@ -371,8 +380,9 @@ impl Dopri5 {
 
     /// Writes the last candidate into `pos` and `vel`, taking `t_new` as its time (the
     /// caller may name the exact output time that t + h rounds to), and keeps its last
-    /// stage as the next step's first.
-    pub fn accept(&mut self, t_new: f64, pos: &mut [DVec2], vel: &mut [DVec2]) {
+    /// stage as the next step's first. Returns true when every value written is known
+    /// to be finite (false: not known).
+    pub fn accept(&mut self, t_new: f64, pos: &mut [DVec2], vel: &mut [DVec2]) -> bool {
         debug_assert!(same_time(t_new, self.candidate_t));
         pos.copy_from_slice(&self.new_pos);
         vel.copy_from_slice(&self.v7);
@@ -383,6 +393,7 @@ impl Dopri5 {
         std::mem::swap(&mut self.a1_vel, &mut self.v7);
         self.a1_t = t_new;
         self.a1_valid = true;
+        self.candidate_finite
     }
 }
 

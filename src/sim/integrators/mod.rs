@@ -270,10 +270,12 @@ impl Stepper {
     }
 
     /// Writes the candidate of the last [`Stepper::attempt`] into `pos` and `vel`, whose
-    /// time is `t_new`. Does nothing for a method without an error estimate.
-    pub fn accept(&mut self, t_new: f64, pos: &mut [DVec2], vel: &mut [DVec2]) {
-        if let Workspace::Dopri5(w) = &mut self.work {
-            w.accept(t_new, pos, vel);
+    /// time is `t_new`, and returns true when every value written is known to be
+    /// finite. Does nothing (and returns false) for a method without an error estimate.
+    pub fn accept(&mut self, t_new: f64, pos: &mut [DVec2], vel: &mut [DVec2]) -> bool {
+        match &mut self.work {
+            Workspace::Dopri5(w) => w.accept(t_new, pos, vel),
+            _ => false,
         }
     }
 }
