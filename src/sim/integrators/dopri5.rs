@@ -157,14 +157,27 @@ impl Dopri5 {
 
     /// Makes A_1 = a(t, r, v) valid for the given start, evaluating it unless the
     /// carried-over last stage of the previous step already is; returns the number of
-    /// evaluations used (0 or 1).
-    fn ensure_first_stage(&mut self, system: &System, t: f64, pos: &[DVec2], vel: &[DVec2]) -> u32 {
-        if self.a1_valid && same_time(self.a1_t, t) && self.a1_pos == pos && self.a1_vel == vel {
+    /// evaluations used (0 or 1). `N` is the number of bodies when it is known at
+    /// compile time, or 0 when it is not (see [`Dopri5::attempt`]).
+    #[inline(always)]
+    fn ensure_first_stage<const N: usize>(
+        &mut self,
+        system: &System,
+        t: f64,
+        pos: &[DVec2],
+        vel: &[DVec2],
+    ) -> u32 {
+        let n = if N == 0 { pos.len() } else { N };
+        if self.a1_valid
+            && same_time(self.a1_t, t)
+            && self.a1_pos[..n] == pos[..n]
+            && self.a1_vel[..n] == vel[..n]
+        {
             return 0;
         }
-        system.accelerations(t, pos, vel, &mut self.a1);
-        self.a1_pos.copy_from_slice(pos);
-        self.a1_vel.copy_from_slice(vel);
+        system.accelerations(t, &pos[..n], &vel[..n], &mut self.a1[..n]);
+        self.a1_pos[..n].copy_from_slice(&pos[..n]);
+        self.a1_vel[..n].copy_from_slice(&vel[..n]);
         self.a1_t = t;
         self.a1_valid = true;
         1
@@ -198,7 +211,7 @@ impl Dopri5 {
         if n == 0 {
             return (h_max, 0);
         }
-        let mut evaluations = self.ensure_first_stage(system, t, pos, vel);
+        let mut evaluations = self.ensure_first_stage::<0>(system, t, pos, vel);
         let count = (4 * n) as f64;
         let (mut d0, mut d1) = (0.0, 0.0);
         for i in 0..n {
@@ -258,8 +271,33 @@ impl Dopri5 {
         vel: &[DVec2],
         tol: Tolerances,
     ) -> (f64, u32) {
-        let mut evaluations = self.ensure_first_stage(system, t, pos, vel);
-        let n = pos.len();
+        // A few bodies are where an adaptive method spends its time on the cost of a
+        // call rather than of a body: for them the number of bodies is made a constant,
+        // so that every loop below, and the force evaluations inlined into them, are
+        // unrolled into straight-line code. The arithmetic, and so every bit of the
+        // result, is the same for every version.
+        match pos.len() {
+            1 => self.attempt_n::<1>(system, t, h, pos, vel, tol),
+            2 => self.attempt_n::<2>(system, t, h, pos, vel, tol),
+            3 => self.attempt_n::<3>(system, t, h, pos, vel, tol),
+            4 => self.attempt_n::<4>(system, t, h, pos, vel, tol),
+            _ => self.attempt_n::<0>(system, t, h, pos, vel, tol),
+        }
+    }
+
+    /// [`Dopri5::attempt`] for `N` bodies, or for any number of bodies when `N` is 0.
+    #[inline(never)]
+    fn attempt_n<const N: usize>(
+        &mut self,
+        system: &System,
+        t: f64,
+        h: f64,
+        pos: &[DVec2],
+        vel: &[DVec2],
+        tol: Tolerances,
+    ) -> (f64, u32) {
+        let mut evaluations = self.ensure_first_stage::<N>(system, t, pos, vel);
+        let n = if N == 0 { pos.len() } else { N };
         // Every buffer as a slice of exactly n bodies, borrowed apart: the loops below
         // then need no bounds checks and the compiler knows the buffers do not overlap.
         let Dopri5 {
@@ -384,8 +422,8 @@ impl Dopri5 {
     /// to be finite (false: not known).
     pub fn accept(&mut self, t_new: f64, pos: &mut [DVec2], vel: &mut [DVec2]) -> bool {
         debug_assert!(same_time(t_new, self.candidate_t));
-        pos.copy_from_slice(&self.new_pos);
-        vel.copy_from_slice(&self.v7);
+        copy_bodies(pos, &self.new_pos);
+        copy_bodies(vel, &self.v7);
         // FSAL: A7 = a(t + h, R7, V7) is A1 of the next step. Swapping buffers moves it,
         // and the state it belongs to, without copying.
         std::mem::swap(&mut self.a1, &mut self.a7);
@@ -394,6 +432,20 @@ impl Dopri5 {
         self.a1_t = t_new;
         self.a1_valid = true;
         self.candidate_finite
+    }
+}
+
+/// Copies `src` into `dst`, of equal lengths. For the few bodies of the systems where
+/// an adaptive method spends its time per step rather than per body, the length is made
+/// a constant, so that the copy is a few moves instead of a call to the C library.
+#[inline(always)]
+fn copy_bodies(dst: &mut [DVec2], src: &[DVec2]) {
+    match dst.len() {
+        1 => dst[..1].copy_from_slice(&src[..1]),
+        2 => dst[..2].copy_from_slice(&src[..2]),
+        3 => dst[..3].copy_from_slice(&src[..3]),
+        4 => dst[..4].copy_from_slice(&src[..4]),
+        _ => dst.copy_from_slice(src),
     }
 }
 
