@@ -326,10 +326,17 @@ impl Simulation {
             if accepted || h <= h_min {
                 let t_new = if lands { t_limit } else { t + h };
                 let finite = self.stepper.accept(t_new, &mut state.pos, &mut state.vel);
-                self.system.record_finite_step(&state.pos, finite);
                 state.t = t_new;
                 self.steps += 1;
                 adaptive.h_next = Some(if lands { h_new.max(proposed) } else { h_new });
+                // A candidate known to be finite needs no check, and no record for the
+                // check to take (an atomic exchange, which waits for every store of the
+                // step). Otherwise no stale record may vouch for it: the check reads
+                // the state.
+                if finite {
+                    return Ok(());
+                }
+                self.system.record_finite_step(&self.state.pos, false);
                 return self.check_finite();
             }
             adaptive.rejected += 1;
