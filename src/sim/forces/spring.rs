@@ -36,12 +36,14 @@ impl Spring {
         let len_sq = d.length_squared();
         if self.rest_length == 0.0 {
             // F_a = -stiffness·d - damping·((v_rel·d)/|d|²)·d, the zero-rest-length form.
-            let damping = if self.damping != 0.0 && len_sq > 0.0 {
-                self.damping * relative_velocity.dot(d) / len_sq * d
-            } else {
-                DVec2::ZERO
-            };
-            return -self.stiffness * d - damping;
+            let elastic = -self.stiffness * d;
+            if self.damping != 0.0 && len_sq > 0.0 {
+                return elastic - self.damping * relative_velocity.dot(d) / len_sq * d;
+            }
+            // Without damping the force is the elastic part alone: x - 0 = x to the bit,
+            // so the subtraction of a zero damping term, a step in the chain of every
+            // force evaluation, is left out.
+            return elastic;
         }
         if len_sq == 0.0 {
             return DVec2::ZERO;
