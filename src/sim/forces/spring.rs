@@ -33,18 +33,22 @@ impl Spring {
     /// Returns the force on body a.
     #[inline(always)]
     fn force_on_a(&self, d: DVec2, relative_velocity: DVec2) -> DVec2 {
-        let len_sq = d.length_squared();
         if self.rest_length == 0.0 {
             // F_a = -stiffness·d - damping·((v_rel·d)/|d|²)·d, the zero-rest-length form.
             let elastic = -self.stiffness * d;
-            if self.damping != 0.0 && len_sq > 0.0 {
-                return elastic - self.damping * relative_velocity.dot(d) / len_sq * d;
+            if self.damping != 0.0 {
+                // |d|² is needed only here: an undamped spring does not compute it.
+                let len_sq = d.length_squared();
+                if len_sq > 0.0 {
+                    return elastic - self.damping * relative_velocity.dot(d) / len_sq * d;
+                }
             }
             // Without damping the force is the elastic part alone: x - 0 = x to the bit,
             // so the subtraction of a zero damping term, a step in the chain of every
             // force evaluation, is left out.
             return elastic;
         }
+        let len_sq = d.length_squared();
         if len_sq == 0.0 {
             return DVec2::ZERO;
         }
