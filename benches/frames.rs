@@ -23,7 +23,7 @@ use physframes::pipeline::{render_prepared, RenderOptions};
 use physframes::render::bodies::draw_arrow;
 use physframes::render::fastpng::StaticPng;
 use physframes::render::{
-    encode_png_into, ArrowScales, Compression, FrameView, Provenance, Renderer,
+    encode_png_into, ArrowScales, Compression, Damage, FrameView, Provenance, Renderer,
 };
 use physframes::scene::Scene;
 use tiny_skia::Color;
@@ -156,10 +156,13 @@ fn stages(c: &mut Criterion) {
             };
             let suffix = if static_layer { "+static-layer" } else { "" };
             let mut pixmap = renderer.new_frame();
+            // As a render's workers do: each frame restores only what the last one
+            // drew over the static layer.
+            let mut damage = Damage::default();
             group.bench_function(format!("{name}{suffix}/draw"), |b| {
-                b.iter(|| renderer.draw_into(&view, &mut pixmap))
+                b.iter(|| renderer.draw_damaged(&view, &mut pixmap, &mut damage))
             });
-            renderer.draw_into(&view, &mut pixmap);
+            renderer.draw_damaged(&view, &mut pixmap, &mut damage);
             let mut png = Vec::new();
             // The default compression, as a render uses it: the static layer's tiles
             // compressed once.
@@ -168,7 +171,7 @@ fn stages(c: &mut Criterion) {
             group.bench_function(format!("{name}{suffix}/encode-fast"), |b| {
                 b.iter(|| {
                     encoder
-                        .encode(&pixmap, &Provenance::default(), &mut png)
+                        .encode_damaged(&pixmap, &damage, &Provenance::default(), &mut png)
                         .expect("encodes")
                 })
             });

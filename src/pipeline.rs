@@ -23,7 +23,9 @@ use tiny_skia::Pixmap;
 
 use crate::render::fastpng::StaticPng;
 use crate::render::layers::TraceRecorder;
-use crate::render::{encode_png_into, ArrowScales, Compression, FrameView, Provenance, Renderer};
+use crate::render::{
+    encode_png_into, ArrowScales, Compression, Damage, FrameView, Provenance, Renderer,
+};
 use crate::scene::Scene;
 use crate::sim::{BlowUp, IntegratorKind};
 
@@ -239,6 +241,7 @@ fn render_full(
                 // buffer, so no frame allocates an image.
                 let mut buffers = Buffers {
                     pixmap: renderer.new_frame(),
+                    damage: Damage::default(),
                     png: Vec::new(),
                     opaque,
                     static_png: static_png.as_ref(),
@@ -429,6 +432,8 @@ fn render_full(
 /// What a worker reuses from frame to frame.
 struct Buffers<'a> {
     pixmap: Pixmap,
+    /// Where `pixmap` differs from the static layer.
+    damage: Damage,
     png: Vec<u8>,
     /// Whether every frame is opaque, so the encoder need not check.
     opaque: bool,
@@ -459,11 +464,16 @@ fn draw_and_write(
         traces: job.traces.as_deref(),
         compare: job.compare.as_deref(),
     };
-    renderer.draw_into(&view, &mut buffers.pixmap);
+    renderer.draw_damaged(&view, &mut buffers.pixmap, &mut buffers.damage);
     let drawn = StageClock::add(&clock.draw, started);
     let provenance = provenance(scene, integrator, job.t, job.index);
     match buffers.static_png {
-        Some(encoder) => encoder.encode(&buffers.pixmap, &provenance, &mut buffers.png),
+        Some(encoder) => encoder.encode_damaged(
+            &buffers.pixmap,
+            &buffers.damage,
+            &provenance,
+            &mut buffers.png,
+        ),
         None => encode_png_into(
             &mut buffers.png,
             &buffers.pixmap,

@@ -14,6 +14,7 @@ pub mod bodies;
 pub mod camera;
 pub mod clip;
 pub mod compare;
+pub mod damage;
 pub mod encode;
 pub mod fastpng;
 pub mod layers;
@@ -28,6 +29,7 @@ use glam::DVec2;
 use tiny_skia::{Color, Pixmap};
 
 pub use camera::Camera;
+pub use damage::Damage;
 pub use encode::{encode_png, encode_png_into, Compression, Provenance};
 
 use crate::scene::Scene;
@@ -129,6 +131,11 @@ struct Look {
 /// How many bodies must share a small look before it is stamped from sprites rather
 /// than drawn as a path: scenes of a few bodies are drawn exactly as their paths.
 pub const SPRITE_MIN_BODIES: usize = 16;
+
+/// Pixels added to a body's reach for the rectangle it damages: the outline's
+/// half-width and anti-aliasing take at most 3 (a sprite pads by as much), and one more
+/// is spare.
+pub const DAMAGE_MARGIN: f32 = 4.0;
 
 /// The colour of velocity arrows.
 fn velocity_color() -> Color {
@@ -297,16 +304,62 @@ impl Renderer {
     /// [`Renderer::new_frame`]): a worker reuses one pixmap for all its frames, so no
     /// frame allocates.
     pub fn draw_into(&self, frame: &FrameView<'_>, pixmap: &mut Pixmap) {
+        self.draw_damaged(frame, pixmap, &mut Damage::whole());
+    }
+
+    /// Draws one frame into `pixmap`, which holds the last frame drawn into it, with
+    /// `damage` saying where that frame differs from the static layer (a pixmap from
+    /// [`Renderer::new_frame`] has no damage). Only the damage is restored from the
+    /// static layer before drawing; afterwards `damage` says where the new frame
+    /// differs from the static layer: the rectangle of every body when only bodies
+    /// are drawn, the whole frame otherwise. The pixels are those of
+    /// [`Renderer::draw_into`], whatever the damage.
+    pub fn draw_damaged(&self, frame: &FrameView<'_>, pixmap: &mut Pixmap, damage: &mut Damage) {
         assert_eq!(
             (pixmap.width(), pixmap.height()),
             (self.width, self.height),
             "draw_into needs a pixmap the size of the frame"
         );
-        match self.plain {
-            Some(background) => pixmap.fill(background),
-            None => pixmap.data_mut().copy_from_slice(self.static_layer.data()),
+        self.restore(pixmap, damage);
+        let bodies_only = frame.trail.is_none()
+            && frame.compare.is_none()
+            && self.arrow_bodies.is_empty()
+            && !self.overlay.has_frame_content();
+        if bodies_only {
+            damage.clear();
+            self.draw_bodies(frame, pixmap, Some(damage));
+        } else {
+            damage.set_whole();
+            self.draw_moving(frame, pixmap);
         }
-        self.draw_moving(frame, pixmap);
+    }
+
+    /// Makes `pixmap` a copy of the static layer again, rewriting only its damage.
+    fn restore(&self, pixmap: &mut Pixmap, damage: &Damage) {
+        // Past a quarter of the frame, rectangle by rectangle (each row of each a
+        // separate copy, and overlaps copied twice) costs more than one copy of all.
+        let area: u64 = damage
+            .rects()
+            .iter()
+            .map(|r| u64::from(r.x1 - r.x0) * u64::from(r.y1 - r.y0))
+            .sum();
+        if damage.is_whole() || 4 * area > u64::from(self.width) * u64::from(self.height) {
+            match self.plain {
+                Some(background) => pixmap.fill(background),
+                None => pixmap.data_mut().copy_from_slice(self.static_layer.data()),
+            }
+            return;
+        }
+        let stride = 4 * self.width as usize;
+        let from = self.static_layer.data();
+        let to = pixmap.data_mut();
+        for r in damage.rects() {
+            let (x0, x1) = (4 * r.x0 as usize, 4 * r.x1 as usize);
+            for y in r.y0 as usize..r.y1 as usize {
+                let row = y * stride;
+                to[row + x0..row + x1].copy_from_slice(&from[row + x0..row + x1]);
+            }
+        }
     }
 
     /// Draws everything that moves over a copy of the static layer: trails, then
@@ -323,19 +376,7 @@ impl Renderer {
                 );
             }
         }
-        for (p, &look) in frame.pos.iter().zip(&self.look_of) {
-            let look = &self.looks[look as usize];
-            let (x, y) = self.camera.to_pixel(*p);
-            // Bodies entirely outside the image are skipped, and so are positions
-            // that are not finite.
-            if look.body.is_outside(x, y, self.width, self.height) {
-                continue;
-            }
-            match &look.sprite {
-                Some(sprite) => sprite.stamp(pixmap, x, y),
-                None => look.body.draw(pixmap, x, y),
-            }
-        }
+        self.draw_bodies(frame, pixmap, None);
         for &i in &self.arrow_bodies {
             let i = i as usize;
             let look = &self.looks[self.look_of[i] as usize].body;
@@ -356,6 +397,47 @@ impl Renderer {
         self.overlay.draw_frame(pixmap, &self.static_layer, frame);
         if let Some(compare) = frame.compare {
             compare::draw(pixmap, &self.camera, compare, self.duration);
+        }
+    }
+
+    /// Draws the bodies in index order, adding to `damage`, when given, a rectangle
+    /// around each body drawn.
+    fn draw_bodies(
+        &self,
+        frame: &FrameView<'_>,
+        pixmap: &mut Pixmap,
+        mut damage: Option<&mut Damage>,
+    ) {
+        for (p, &look) in frame.pos.iter().zip(&self.look_of) {
+            let look = &self.looks[look as usize];
+            let (x, y) = self.camera.to_pixel(*p);
+            // Bodies entirely outside the image are skipped, and so are positions
+            // that are not finite.
+            if look.body.is_outside(x, y, self.width, self.height) {
+                continue;
+            }
+            if let Some(damage) = damage.as_deref_mut() {
+                match &look.sprite {
+                    // A stamp changes exactly its sprite's rectangle.
+                    Some(sprite) => {
+                        damage.add_rect(sprite.footprint(x, y), self.width, self.height)
+                    }
+                    // Everything drawn for a body lies within its reach of (x, y); the
+                    // margin covers the outline's half-width and anti-aliasing (a
+                    // sprite pads by 3 pixels) with a pixel to spare.
+                    None => damage.add_around(
+                        x,
+                        y,
+                        look.body.reach() + DAMAGE_MARGIN,
+                        self.width,
+                        self.height,
+                    ),
+                }
+            }
+            match &look.sprite {
+                Some(sprite) => sprite.stamp(pixmap, x, y),
+                None => look.body.draw(pixmap, x, y),
+            }
         }
     }
 }

@@ -98,6 +98,17 @@ impl SpriteSheet {
         })
     }
 
+    /// Returns the pixels that [`SpriteSheet::stamp`] at (x, y) may change, columns
+    /// x0..x1 and rows y0..y1 as (x0, y0, x1, y1), which may reach outside the pixmap:
+    /// the sprite's trimmed rectangle at its snapped position.
+    pub fn footprint(&self, x: f32, y: f32) -> (i64, i64, i64, i64) {
+        let (ix, i) = snap(x);
+        let (iy, j) = snap(y);
+        let sprite = &self.sprites[(j * PHASES + i) as usize];
+        let (x0, y0) = (ix + i64::from(sprite.dx), iy + i64::from(sprite.dy));
+        (x0, y0, x0 + sprite.width as i64, y0 + sprite.height as i64)
+    }
+
     /// Stamps the look with its centre at pixel (x, y), snapped to the nearest
     /// 1/`PHASES` of a pixel. Parts outside the pixmap are skipped.
     pub fn stamp(&self, pixmap: &mut Pixmap, x: f32, y: f32) {

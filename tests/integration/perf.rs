@@ -594,3 +594,102 @@ fn check_static_tiles(s: &Scene) {
         assert!(a.to_rgba8() == b.to_rgba8(), "{name}: pixels differ");
     }
 }
+
+#[test]
+fn drawing_from_the_last_frames_damage_gives_the_pixels_of_a_whole_redraw() {
+    // 40 stamped circles and three bodies drawn as paths (a box, a polygon, a large
+    // circle), some crossing the edges, moving over a static layer with detail; one
+    // pixmap reused from frame to frame as a render's workers do.
+    let s = scene(
+        r##"
+[render]
+width = 160
+height = 90
+view = { min = [0.0, 0.0], max = [16.0, 9.0] }
+[[body]]
+name = "box"
+mass = 1.0
+position = [3.0, 3.0]
+shape = { box = { width = 1.2, height = 0.5 } }
+[[body]]
+name = "wedge"
+mass = 1.0
+position = [12.0, 6.0]
+shape = { polygon = { points = [[0.0, 0.0], [1.5, 0.2], [0.3, 1.1]] } }
+[[body]]
+name = "big"
+mass = 1.0
+position = [8.0, 4.5]
+shape = { circle = { radius = 1.3 } }
+[[swarm]]
+name = "dust"
+count = 40
+seed = 3
+mass = 1.0
+position = { min = [-0.5, -0.5], max = [16.5, 9.5] }
+shape = { circle = { radius = 0.25 } }
+"##,
+    );
+    let mut renderer = Renderer::new(
+        &s,
+        ArrowScales {
+            velocity: 1.0,
+            force: 1.0,
+        },
+    );
+    {
+        let clip = *renderer.clip();
+        let layer = renderer.static_layer_mut();
+        for k in 0..12 {
+            let at = (13.0 * k as f64, 7.0 * k as f64);
+            let grey = Color::from_rgba8(0x88, 0x88, 0x88, 0xff);
+            physframes::render::bodies::draw_arrow(layer, &clip, at, (20.0, 9.0), grey, 1.0);
+        }
+    }
+    let initial = s.initial_state();
+    let mut pixmap = renderer.new_frame();
+    let mut damage = physframes::render::Damage::default();
+    let mut damaged_some = false;
+    for k in 0..12 {
+        // Each body moves on its own line, some by fractions of a pixel, some by many.
+        let pos: Vec<DVec2> = initial
+            .pos
+            .iter()
+            .enumerate()
+            .map(|(i, p)| *p + k as f64 * DVec2::new(0.013 * i as f64, -0.071 * (i % 5) as f64))
+            .collect();
+        let view = FrameView {
+            index: k,
+            t: 0.0,
+            pos: &pos,
+            vel: &[],
+            force: None,
+            trail: None,
+            traces: None,
+            compare: None,
+        };
+        renderer.draw_damaged(&view, &mut pixmap, &mut damage);
+        let whole = renderer.draw(&view);
+        assert!(
+            pixmap.data() == whole.data(),
+            "frame {k} differs from a redraw"
+        );
+        // Outside the damage, every pixel is the static layer's.
+        assert!(!damage.is_whole());
+        let mut outside = renderer.static_layer().clone();
+        let width = outside.width() as usize;
+        for r in damage.rects() {
+            for y in r.y0 as usize..r.y1 as usize {
+                let row = 4 * y * width;
+                let span = row + 4 * r.x0 as usize..row + 4 * r.x1 as usize;
+                outside.data_mut()[span.clone()].copy_from_slice(&pixmap.data()[span]);
+            }
+        }
+        assert!(
+            outside.data() == pixmap.data(),
+            "frame {k} drew outside its damage"
+        );
+        damaged_some |= !damage.rects().is_empty();
+    }
+    assert!(damaged_some);
+}

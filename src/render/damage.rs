@@ -1,0 +1,142 @@
+//! Damage: where a frame may differ from the static layer it was drawn over.
+//!
+//! A frame of bodies moving over a static layer changes only the pixels under the
+//! bodies. The renderer records the rectangle of every body it draws; the next frame
+//! drawn into the same pixmap restores only those rectangles from the static layer
+//! instead of copying the whole layer, and the encoder compresses afresh only the tiles
+//! they cover, copying the static layer's compressed bits everywhere else. A frame that
+//! draws anything whose extent is not tracked (trails, arrows, overlays) is damaged
+//! whole, and both stages then do what they would do without damage.
+//!
+//! The invariant: every pixel outside the damage equals the static layer's pixel. The
+//! damage is a superset of what was drawn, never a subset; a rectangle too large costs
+//! time, one too small would cost correctness, so the margins are generous.
+
+/// A rectangle of whole pixels, x0..x1 by y0..y1 (half-open), inside the frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PixelRect {
+    pub x0: u32,
+    pub y0: u32,
+    pub x1: u32,
+    pub y1: u32,
+}
+
+/// The part of a frame that may differ from the static layer.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Damage {
+    rects: Vec<PixelRect>,
+    whole: bool,
+}
+
+impl Default for Damage {
+    /// No damage: the pixmap is a copy of the static layer.
+    fn default() -> Self {
+        Damage {
+            rects: Vec::new(),
+            whole: false,
+        }
+    }
+}
+
+impl Damage {
+    /// Damage everywhere: nothing is known about the pixmap.
+    pub fn whole() -> Self {
+        Damage {
+            rects: Vec::new(),
+            whole: true,
+        }
+    }
+
+    /// Returns true when the whole frame may differ from the static layer.
+    pub fn is_whole(&self) -> bool {
+        self.whole
+    }
+
+    /// Returns the damaged rectangles (meaningful only when not [`Damage::is_whole`]).
+    pub fn rects(&self) -> &[PixelRect] {
+        &self.rects
+    }
+
+    /// Forgets all damage: the pixmap equals the static layer again.
+    pub fn clear(&mut self) {
+        self.rects.clear();
+        self.whole = false;
+    }
+
+    /// Marks the whole frame as damaged.
+    pub fn set_whole(&mut self) {
+        self.rects.clear();
+        self.whole = true;
+    }
+
+    /// Adds the pixels of columns x0..x1 and rows y0..y1, clamped to a frame of
+    /// `width` × `height`.
+    pub fn add_rect(&mut self, (x0, y0, x1, y1): (i64, i64, i64, i64), width: u32, height: u32) {
+        if self.whole {
+            return;
+        }
+        let clamp = |v: i64, max: u32| v.clamp(0, i64::from(max)) as u32;
+        let rect = PixelRect {
+            x0: clamp(x0, width),
+            y0: clamp(y0, height),
+            x1: clamp(x1, width),
+            y1: clamp(y1, height),
+        };
+        if rect.x0 < rect.x1 && rect.y0 < rect.y1 {
+            self.rects.push(rect);
+        }
+    }
+
+    /// Adds the pixels that a square of half-side `reach` around pixel position
+    /// (x, y) touches, within a frame of `width` × `height`. A position that is not a
+    /// number damages the whole frame, since nothing is known of where it drew.
+    pub fn add_around(&mut self, x: f32, y: f32, reach: f32, width: u32, height: u32) {
+        if self.whole {
+            return;
+        }
+        let (x0, x1) = ((x - reach).floor(), (x + reach).ceil());
+        let (y0, y1) = ((y - reach).floor(), (y + reach).ceil());
+        if !(x0.is_finite() && x1.is_finite() && y0.is_finite() && y1.is_finite()) {
+            self.set_whole();
+            return;
+        }
+        // Clamped to a range where `as i64` is exact, then to the frame.
+        let int = |v: f32| v.clamp(-1.0e9, 1.0e9) as i64;
+        self.add_rect((int(x0), int(y0), int(x1), int(y1)), width, height);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rectangles_are_clamped_to_the_frame_and_empty_ones_dropped() {
+        let mut d = Damage::default();
+        d.add_around(1.5, 2.5, 3.0, 100, 50);
+        d.add_around(99.0, 49.0, 4.0, 100, 50);
+        d.add_around(-20.0, 10.0, 3.0, 100, 50);
+        assert_eq!(
+            d.rects(),
+            &[
+                PixelRect {
+                    x0: 0,
+                    y0: 0,
+                    x1: 5,
+                    y1: 6
+                },
+                PixelRect {
+                    x0: 95,
+                    y0: 45,
+                    x1: 100,
+                    y1: 50
+                }
+            ]
+        );
+        assert!(!d.is_whole());
+        d.add_around(f32::NAN, 1.0, 1.0, 100, 50);
+        assert!(d.is_whole());
+        d.clear();
+        assert!(!d.is_whole() && d.rects().is_empty());
+    }
+}
