@@ -25,6 +25,8 @@ pub struct PixelRect {
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Damage {
     rects: Vec<PixelRect>,
+    /// The sum of the rectangles' areas, in pixels.
+    area: u64,
     whole: bool,
 }
 
@@ -33,6 +35,7 @@ impl Default for Damage {
     fn default() -> Self {
         Damage {
             rects: Vec::new(),
+            area: 0,
             whole: false,
         }
     }
@@ -43,6 +46,7 @@ impl Damage {
     pub fn whole() -> Self {
         Damage {
             rects: Vec::new(),
+            area: 0,
             whole: true,
         }
     }
@@ -60,17 +64,22 @@ impl Damage {
     /// Forgets all damage: the pixmap equals the static layer again.
     pub fn clear(&mut self) {
         self.rects.clear();
+        self.area = 0;
         self.whole = false;
     }
 
     /// Marks the whole frame as damaged.
     pub fn set_whole(&mut self) {
         self.rects.clear();
+        self.area = 0;
         self.whole = true;
     }
 
     /// Adds the pixels of columns x0..x1 and rows y0..y1, clamped to a frame of
-    /// `width` × `height`.
+    /// `width` × `height`. Once the rectangles cover a quarter of the frame (overlaps
+    /// counted twice), the damage becomes whole: restoring and encoding rectangle by
+    /// rectangle would then cost more than doing the whole frame, and recording more of
+    /// them would be wasted.
     pub fn add_rect(&mut self, (x0, y0, x1, y1): (i64, i64, i64, i64), width: u32, height: u32) {
         if self.whole {
             return;
@@ -83,7 +92,12 @@ impl Damage {
             y1: clamp(y1, height),
         };
         if rect.x0 < rect.x1 && rect.y0 < rect.y1 {
-            self.rects.push(rect);
+            self.area += u64::from(rect.x1 - rect.x0) * u64::from(rect.y1 - rect.y0);
+            if 4 * self.area > u64::from(width) * u64::from(height) {
+                self.set_whole();
+            } else {
+                self.rects.push(rect);
+            }
         }
     }
 
@@ -135,6 +149,12 @@ mod tests {
         );
         assert!(!d.is_whole());
         d.add_around(f32::NAN, 1.0, 1.0, 100, 50);
+        assert!(d.is_whole());
+        d.clear();
+        // A quarter of the frame and more is whole.
+        d.add_rect((0, 0, 50, 25), 100, 50);
+        assert!(!d.is_whole());
+        d.add_rect((60, 30, 61, 31), 100, 50);
         assert!(d.is_whole());
         d.clear();
         assert!(!d.is_whole() && d.rects().is_empty());

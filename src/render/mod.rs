@@ -312,7 +312,8 @@ impl Renderer {
     /// [`Renderer::new_frame`] has no damage). Only the damage is restored from the
     /// static layer before drawing; afterwards `damage` says where the new frame
     /// differs from the static layer: the rectangle of every body when only bodies
-    /// are drawn, the whole frame otherwise. The pixels are those of
+    /// are drawn (over a static layer that may hold axes and fields), the whole frame
+    /// otherwise. The pixels are those of
     /// [`Renderer::draw_into`], whatever the damage.
     pub fn draw_damaged(&self, frame: &FrameView<'_>, pixmap: &mut Pixmap, damage: &mut Damage) {
         assert_eq!(
@@ -324,10 +325,13 @@ impl Renderer {
         let bodies_only = frame.trail.is_none()
             && frame.compare.is_none()
             && self.arrow_bodies.is_empty()
-            && !self.overlay.has_frame_content();
+            && !self.overlay.draws_over_frames();
         if bodies_only {
             damage.clear();
             self.draw_bodies(frame, pixmap, Some(damage));
+            // With axes, bodies are wiped from the margins again: that only returns
+            // pixels to the static layer, so the damage still covers every change.
+            self.overlay.draw_frame(pixmap, &self.static_layer, frame);
         } else {
             damage.set_whole();
             self.draw_moving(frame, pixmap);
@@ -336,14 +340,7 @@ impl Renderer {
 
     /// Makes `pixmap` a copy of the static layer again, rewriting only its damage.
     fn restore(&self, pixmap: &mut Pixmap, damage: &Damage) {
-        // Past a quarter of the frame, rectangle by rectangle (each row of each a
-        // separate copy, and overlaps copied twice) costs more than one copy of all.
-        let area: u64 = damage
-            .rects()
-            .iter()
-            .map(|r| u64::from(r.x1 - r.x0) * u64::from(r.y1 - r.y0))
-            .sum();
-        if damage.is_whole() || 4 * area > u64::from(self.width) * u64::from(self.height) {
+        if damage.is_whole() {
             match self.plain {
                 Some(background) => pixmap.fill(background),
                 None => pixmap.data_mut().copy_from_slice(self.static_layer.data()),
@@ -416,7 +413,7 @@ impl Renderer {
             if look.body.is_outside(x, y, self.width, self.height) {
                 continue;
             }
-            if let Some(damage) = damage.as_deref_mut() {
+            if let Some(damage) = damage.as_deref_mut().filter(|d| !d.is_whole()) {
                 match &look.sprite {
                     // A stamp changes exactly its sprite's rectangle.
                     Some(sprite) => {

@@ -597,11 +597,11 @@ fn check_static_tiles(s: &Scene) {
 
 #[test]
 fn drawing_from_the_last_frames_damage_gives_the_pixels_of_a_whole_redraw() {
-    // 40 stamped circles and three bodies drawn as paths (a box, a polygon, a large
+    // 20 stamped circles and three bodies drawn as paths (a box, a polygon, a larger
     // circle), some crossing the edges, moving over a static layer with detail; one
-    // pixmap reused from frame to frame as a render's workers do.
-    let s = scene(
-        r##"
+    // pixmap reused from frame to frame as a render's workers do. Their rectangles
+    // stay under a quarter of the frame, past which the damage would be whole.
+    const BODIES: &str = r##"
 [render]
 width = 160
 height = 90
@@ -615,23 +615,33 @@ shape = { box = { width = 1.2, height = 0.5 } }
 name = "wedge"
 mass = 1.0
 position = [12.0, 6.0]
-shape = { polygon = { points = [[0.0, 0.0], [1.5, 0.2], [0.3, 1.1]] } }
+shape = { polygon = { points = [[0.0, 0.0], [0.8, 0.1], [0.2, 0.6]] } }
 [[body]]
 name = "big"
 mass = 1.0
 position = [8.0, 4.5]
-shape = { circle = { radius = 1.3 } }
+shape = { circle = { radius = 0.6 } }
 [[swarm]]
 name = "dust"
-count = 40
+count = 20
 seed = 3
 mass = 1.0
 position = { min = [-0.5, -0.5], max = [16.5, 9.5] }
-shape = { circle = { radius = 0.25 } }
-"##,
-    );
+shape = { circle = { radius = 0.15 } }
+"##;
+    // Alone, and under axes and a field drawn once (frames then also wipe bodies
+    // from the margins, which keeps the damage a cover of every change).
+    check_damage(&scene(BODIES));
+    check_damage(&scene(&format!(
+        "{BODIES}\n[axes]\ntitle = \"t\"\n[[field]]\nkind = \"vector\"\nf = [\"-y\", \"x\"]\n"
+    )));
+}
+
+/// Draws a dozen frames of moving bodies into one reused pixmap from the last frame's
+/// damage, and checks each against a whole redraw and against its own damage.
+fn check_damage(s: &Scene) {
     let mut renderer = Renderer::new(
-        &s,
+        s,
         ArrowScales {
             velocity: 1.0,
             force: 1.0,

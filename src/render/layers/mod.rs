@@ -99,6 +99,12 @@ impl Overlay {
         &self.chart
     }
 
+    /// Returns true when frames draw something over the static layer other than
+    /// restoring its margins: a legend, the HUD or a layer that changes in time.
+    pub fn draws_over_frames(&self) -> bool {
+        self.legend || self.hud || self.layers.has_dynamic_layers()
+    }
+
     /// Returns true when frames draw something over the static layer.
     pub fn has_frame_content(&self) -> bool {
         self.legend || self.hud || self.restore_margins || self.layers.has_dynamic_layers()
