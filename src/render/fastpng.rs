@@ -49,6 +49,10 @@ pub struct StaticPng {
     /// it that is not all zeros (tiles per row when none is), so that a clean span of
     /// zero tiles is skipped at once.
     next_bits: Vec<u16>,
+    /// For each tile that begins a run of two or more consecutive tiles that are not
+    /// all zero, row by row: the index in its row of the run's end, and what the whole
+    /// run compresses to; (0, unused) for every other tile.
+    joined: Vec<(u16, TileBits)>,
     /// For each row, the filter-type byte and the whole filtered row compressed at
     /// once (runs of zeros cross tiles), as bits of the pool, and its Adler-32: used
     /// when the row and the row above equal the static layer's.
@@ -122,24 +126,30 @@ impl StaticPng {
                     });
                     continue;
                 }
-                let mut w = Deflate::new(codes, Vec::new());
-                w.bytes(tile);
-                w.flush_run();
-                let (bytes, bits) = w.into_bits();
-                if bits <= 64 {
-                    let mut word = [0u8; 8];
-                    word[..bytes.len()].copy_from_slice(&bytes);
-                    tiles.push(TileBits::Short {
-                        bits: u64::from_le_bytes(word),
-                        count: bits as u32,
-                    });
+                tiles.push(compress_alone(codes, tile, &mut pool));
+            }
+        }
+        // Each run of consecutive tiles that are not all zero, compressed as one: a
+        // clean span that holds it whole copies it in one go.
+        let mut joined = vec![(0u16, TileBits::Zeros { len: 0 }); tiles.len()];
+        for y in 0..height as usize {
+            let row = &tiles[y * tiles_per_row..(y + 1) * tiles_per_row];
+            let mut t = 0;
+            while t < tiles_per_row {
+                if matches!(row[t], TileBits::Zeros { .. }) {
+                    t += 1;
                     continue;
                 }
-                tiles.push(TileBits::Bits {
-                    start: pool.len() as u32,
-                    bits: bits as u32,
-                });
-                pool.extend_from_slice(&bytes);
+                let start = t;
+                while t < tiles_per_row && !matches!(row[t], TileBits::Zeros { .. }) {
+                    t += 1;
+                }
+                if t - start > 1 {
+                    let bytes =
+                        &filtered[y * stride + start * TILE..y * stride + (t * TILE).min(stride)];
+                    joined[y * tiles_per_row + start] =
+                        (t as u16, compress_alone(codes, bytes, &mut pool));
+                }
             }
         }
         let mut next_bits = vec![0u16; tiles.len()];
@@ -180,6 +190,7 @@ impl StaticPng {
         }
         pool.extend_from_slice(&[0; 8]);
         Some(StaticPng {
+            joined,
             next_bits,
             rows,
             plain,
@@ -265,18 +276,15 @@ impl StaticPng {
             return encode_png_into(out, frame, provenance, Compression::Fastest, true);
         }
         let data = frame.data();
-        self.encode_rows(data, provenance, out, |y, clean| {
+        self.encode_rows(data, provenance, out, |y, dirty_row| {
             let row = &dirty[y * words..(y + 1) * words];
             if row.iter().all(|w| *w == 0) {
                 return RowPlan::Static;
             }
-            let mut count = 0;
-            for (t, c) in clean.iter_mut().enumerate() {
-                *c = row[t / 64] & (1 << (t % 64)) == 0;
-                count += usize::from(*c);
-            }
+            dirty_row.copy_from_slice(row);
+            let count: u32 = row.iter().map(|w| w.count_ones()).sum();
             // Few clean tiles save less than switching between spans costs.
-            if 4 * count < tiles_per_row {
+            if 4 * (tiles_per_row - count as usize) < tiles_per_row {
                 RowPlan::Afresh
             } else {
                 RowPlan::Tiles
@@ -296,7 +304,7 @@ impl StaticPng {
         let mut same = vec![true; tiles_per_row];
         // Whether the whole row above equals the static layer's.
         let mut above_row_same = true;
-        self.encode_rows(data, provenance, out, |y, clean| {
+        self.encode_rows(data, provenance, out, |y, dirty_row| {
             let row = &data[y * stride..(y + 1) * stride];
             let static_row = &self.pixels[y * stride..(y + 1) * stride];
             let row_same = row == static_row;
@@ -320,10 +328,14 @@ impl StaticPng {
                         *s = a.iter().zip(b).fold(0u8, |d, (x, y)| d | (x ^ y)) == 0;
                     }
                 }
+                dirty_row.fill(0);
                 let mut count = 0;
-                for ((c, s), a) in clean.iter_mut().zip(&same).zip(&above_same) {
-                    *c = *s && *a;
-                    count += usize::from(*c);
+                for (t, (s, a)) in same.iter().zip(&above_same).enumerate() {
+                    if *s && *a {
+                        count += 1;
+                    } else {
+                        dirty_row[t / 64] |= 1 << (t % 64);
+                    }
                 }
                 // Tiles pay when enough of the row is clean; otherwise the row is
                 // compressed afresh, as a whole.
@@ -340,14 +352,15 @@ impl StaticPng {
     }
 
     /// Writes the PNG of a frame whose pixels are `data`, row by row as `plan` says:
-    /// `plan(y, clean)` returns how row y is encoded and, for [`RowPlan::Tiles`], sets
-    /// `clean[t]` when tile t of the filtered row is the static layer's.
+    /// `plan(y, dirty)` returns how row y is encoded and, for [`RowPlan::Tiles`], sets
+    /// bit t of `dirty` (bit t % 64 of word t / 64) for every tile t of the filtered
+    /// row that is not the static layer's, and clears the others.
     fn encode_rows(
         &self,
         data: &[u8],
         provenance: &Provenance,
         out: &mut Vec<u8>,
-        mut plan: impl FnMut(usize, &mut [bool]) -> RowPlan,
+        mut plan: impl FnMut(usize, &mut [u64]) -> RowPlan,
     ) {
         let stride = 4 * self.width as usize;
         let tiles_per_row = stride.div_ceil(TILE);
@@ -380,10 +393,10 @@ impl StaticPng {
         // The Adler-32 of the filtered bytes so far.
         let mut adler = 1u32;
         let mut row_filtered = vec![0u8; stride];
-        let mut clean = vec![false; tiles_per_row];
+        let mut dirty = vec![0u64; tiles_per_row.div_ceil(64)];
         for y in 0..self.height as usize {
             let row = &data[y * stride..(y + 1) * stride];
-            let how = plan(y, &mut clean);
+            let how = plan(y, &mut dirty);
             if let RowPlan::Static = how {
                 // The whole filtered row is the static layer's: copy its bits.
                 if let (TileBits::Bits { start, bits }, row_adler) = self.rows[y] {
@@ -408,41 +421,46 @@ impl StaticPng {
                 w.bytes(&row_filtered);
                 continue;
             }
-            // Walk the row in spans of tiles that are all clean or all not.
-            let mut t = 0;
-            while t < tiles_per_row {
-                let first = t;
-                let is_clean = clean[t];
-                while t < tiles_per_row && clean[t] == is_clean {
-                    t += 1;
-                }
-                if is_clean {
-                    // The static layer's filtered bytes, compressed once per render:
-                    // runs of zero tiles are skipped whole, the others copied.
-                    let base = y * tiles_per_row;
-                    let mut k = first;
-                    while k < t {
-                        let next = (self.next_bits[base + k] as usize).min(t);
-                        w.run += (next * TILE).min(stride) - k * TILE;
-                        if next == t {
-                            break;
-                        }
-                        match self.tiles[base + next] {
-                            TileBits::Zeros { len } => w.run += len as usize,
-                            TileBits::Short { bits, count } => {
-                                w.flush_run();
-                                w.put(bits, count);
-                            }
-                            TileBits::Bits { start, bits } => {
-                                w.flush_run();
-                                w.put_pool_bits(&self.pool[start as usize..], bits as usize);
-                            }
-                        }
-                        k = next + 1;
+            // Walk the row in spans: clean tiles first..d, then dirty tiles d..t.
+            let base = y * tiles_per_row;
+            let mut first = 0;
+            while first < tiles_per_row {
+                let d = next_bit(&dirty, first, true).min(tiles_per_row);
+                // The static layer's filtered bytes, compressed once per render: runs of
+                // zero tiles are skipped whole, the others copied.
+                let mut k = first;
+                while k < d {
+                    let next = (self.next_bits[base + k] as usize).min(d);
+                    w.run += (next * TILE).min(stride) - k * TILE;
+                    if next == d {
+                        break;
                     }
-                } else {
-                    w.bytes(&row_filtered[first * TILE..(t * TILE).min(stride)]);
+                    // A run of non-zero tiles wholly in the span goes in one copy.
+                    let (end, run_bits) = self.joined[base + next];
+                    let (bits, end) = if end as usize > next && end as usize <= d {
+                        (run_bits, end as usize)
+                    } else {
+                        (self.tiles[base + next], next + 1)
+                    };
+                    match bits {
+                        TileBits::Zeros { len } => w.run += len as usize,
+                        TileBits::Short { bits, count } => {
+                            w.flush_run();
+                            w.put(bits, count);
+                        }
+                        TileBits::Bits { start, bits } => {
+                            w.flush_run();
+                            w.put_pool_bits(&self.pool[start as usize..], bits as usize);
+                        }
+                    }
+                    k = end;
                 }
+                if d == tiles_per_row {
+                    break;
+                }
+                let t = next_bit(&dirty, d, false).min(tiles_per_row);
+                w.bytes(&row_filtered[d * TILE..(t * TILE).min(stride)]);
+                first = t;
             }
         }
         w.flush_run();
@@ -458,6 +476,30 @@ impl StaticPng {
     }
 }
 
+/// Returns the index of the first bit at or after `from` that is set (when `set`) or
+/// clear (otherwise) in the bitmap `words` (bit i is bit i % 64 of word i / 64), or
+/// 64·words.len() when there is none.
+#[inline]
+fn next_bit(words: &[u64], from: usize, set: bool) -> usize {
+    let mut k = from / 64;
+    if k >= words.len() {
+        return 64 * words.len();
+    }
+    let flip = if set { 0 } else { u64::MAX };
+    // The bits of word k from `from` on, flipped so that the sought ones are ones.
+    let mut word = (words[k] ^ flip) & (u64::MAX << (from % 64));
+    loop {
+        if word != 0 {
+            return 64 * k + word.trailing_zeros() as usize;
+        }
+        k += 1;
+        if k == words.len() {
+            return 64 * k;
+        }
+        word = words[k] ^ flip;
+    }
+}
+
 /// How one row of a frame is encoded.
 enum RowPlan {
     /// The row and the row above are the static layer's: the row's bits are copied.
@@ -466,6 +508,29 @@ enum RowPlan {
     Afresh,
     /// Clean tiles are copied and the others compressed.
     Tiles,
+}
+
+/// Compresses `bytes` (not all zero) on their own: as bits held in place when they
+/// fit in 64, or appended to the pool.
+fn compress_alone(codes: &'static Codes, bytes: &[u8], pool: &mut Vec<u8>) -> TileBits {
+    let mut w = Deflate::new(codes, Vec::new());
+    w.bytes(bytes);
+    w.flush_run();
+    let (out, bits) = w.into_bits();
+    if bits <= 64 {
+        let mut word = [0u8; 8];
+        word[..out.len()].copy_from_slice(&out);
+        return TileBits::Short {
+            bits: u64::from_le_bytes(word),
+            count: bits as u32,
+        };
+    }
+    let start = pool.len() as u32;
+    pool.extend_from_slice(&out);
+    TileBits::Bits {
+        start,
+        bits: bits as u32,
+    }
 }
 
 /// The modulus of Adler-32.
