@@ -313,8 +313,7 @@ impl Renderer {
     /// static layer before drawing; afterwards `damage` says where the new frame
     /// differs from the static layer: the rectangle of every body when only bodies
     /// are drawn (over a static layer that may hold axes and fields), the whole frame
-    /// otherwise. The pixels are those of
-    /// [`Renderer::draw_into`], whatever the damage.
+    /// otherwise. The pixels are those of [`Renderer::draw_into`], whatever the damage.
     pub fn draw_damaged(&self, frame: &FrameView<'_>, pixmap: &mut Pixmap, damage: &mut Damage) {
         assert_eq!(
             (pixmap.width(), pixmap.height()),
