@@ -395,7 +395,9 @@ impl System {
         if springs {
             self.forces.accumulate_springs(pos, vel, out);
         }
-        if divide && (springs || !self.per_body) {
+        // Without springs any division was done in the pass above (or there is
+        // nothing but zeros to divide).
+        if divide && springs {
             divide_by_mass(self.masses_view(), out);
         }
     }

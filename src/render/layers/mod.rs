@@ -105,11 +105,6 @@ impl Overlay {
         self.legend || self.hud || self.layers.has_dynamic_layers()
     }
 
-    /// Returns true when frames draw something over the static layer.
-    pub fn has_frame_content(&self) -> bool {
-        self.legend || self.hud || self.restore_margins || self.layers.has_dynamic_layers()
-    }
-
     /// Draws the axes and every layer that does not change between frames.
     pub fn draw_static(&self, pixmap: &mut Pixmap) {
         if self.axes {
