@@ -1,8 +1,11 @@
 //! `physframes bench`: how fast this machine simulates, draws, encodes and writes.
 //!
-//! Each scene is rendered `--repeat` times into a fresh temporary folder (removed
-//! afterwards) and the median run is reported, with the time per frame of each stage as
-//! the manifest records it. `--simulate-only` times the simulation alone, stepping the
+//! Each scene is rendered `--repeat` times, every run into a fresh temporary folder that
+//! is removed once the run is measured, so that runs neither pile up frames (on tmpfs,
+//! in memory) nor find other runs' files where they write. With `--out DIR` the folders
+//! are made inside DIR and the last run's frames are kept as `DIR/<scene name>/`. The
+//! median run is reported, with the time per frame of each stage as the manifest
+//! records it. `--simulate-only` times the simulation alone, stepping the
 //! scene's `Simulation` from t = 0 to its last frame with nothing drawn or written, and
 //! reports nanoseconds per body-step.
 
@@ -38,7 +41,9 @@ pub struct BenchArgs {
     /// Time the simulation alone: nothing is drawn, encoded or written.
     #[arg(long)]
     simulate_only: bool,
-    /// Write frames under this folder instead of a temporary one (it is not removed).
+    /// Render each run into a temporary folder inside DIR instead of the system's, and
+    /// keep the last run's frames of each scene as DIR/<scene name>/, replacing the
+    /// folder an earlier bench kept there and never any other [default: keep nothing].
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
     /// Use this integrator instead of each scene's.
@@ -119,14 +124,21 @@ pub fn run(args: BenchArgs) -> Result<()> {
                 .as_deref()
                 .map(|f| parse_frames(f, scene.render.frame_count))
                 .transpose()?;
+            // The last run's frames are kept, when --out is given.
+            let kept = args.out.as_ref().map(|dir| dir.join(&scene.name));
+            if let Some(kept) = &kept {
+                check_replaceable(kept)?;
+            }
             let mut runs = Vec::with_capacity(args.repeat);
-            for _ in 0..args.repeat {
+            for i in 0..args.repeat {
+                let keep_as = kept.as_deref().filter(|_| i + 1 == args.repeat);
                 runs.push(render_once(
                     &scene,
                     &args,
                     threads,
                     compression,
                     frames.clone(),
+                    keep_as,
                 )?);
             }
             runs.sort_by(|a, b| a.wall_s.total_cmp(&b.wall_s));
@@ -172,13 +184,34 @@ fn default_scenes() -> Result<Vec<PathBuf>> {
     Ok(found)
 }
 
-/// Renders a scene once into a fresh folder and returns its figures.
+/// The file that marks a folder of frames kept by `bench`, which a later bench of the
+/// same scene may replace.
+const KEPT_MARKER: &str = ".physframes-bench";
+
+/// Fails when `kept` exists but is not a folder that `bench` kept, so that bench never
+/// removes a render or anything else of the user's that happens to have the scene's name.
+fn check_replaceable(kept: &Path) -> Result<()> {
+    if kept.symlink_metadata().is_err() || kept.join(KEPT_MARKER).is_file() {
+        return Ok(());
+    }
+    Err(Error::Usage(format!(
+        "{} exists and was not written by `physframes bench`, which would replace it; \
+         remove it or choose another --out",
+        kept.display()
+    )))
+}
+
+/// Renders a scene once into a fresh temporary folder and returns its figures. The
+/// folder is then removed, or, when `keep_as` is given, moved there in place of the
+/// folder an earlier bench kept. Neither is part of the times measured, which the
+/// manifest records during the render.
 fn render_once(
     scene: &Scene,
     args: &BenchArgs,
     threads: usize,
     compression: Compression,
     frames: Option<std::ops::Range<u64>>,
+    keep_as: Option<&Path>,
 ) -> Result<RenderRun> {
     let parent = match &args.out {
         Some(dir) => {
@@ -214,11 +247,42 @@ fn render_once(
         ],
         bytes_per_frame: bytes as f64 / n,
     };
-    if args.out.is_some() {
-        // The caller asked to keep the frames.
-        let _ = folder.keep();
+    match keep_as {
+        Some(kept) => keep(folder, kept)?,
+        // Removing the folder now, rather than leaving it to `Drop`, reports a failure:
+        // a folder left behind would again fill DIR run by run.
+        None => {
+            let path = folder.path().to_path_buf();
+            folder
+                .close()
+                .map_err(|e| Error::io("cannot remove", path, e))?;
+        }
     }
     Ok(run)
+}
+
+/// Moves a run's folder of frames to `kept`, replacing the folder an earlier bench kept
+/// there. The temporary folder was made in `kept`'s parent, so this is a rename on one
+/// filesystem, not a copy.
+fn keep(folder: tempfile::TempDir, kept: &Path) -> Result<()> {
+    let marker = folder.path().join(KEPT_MARKER);
+    std::fs::write(
+        &marker,
+        "Frames kept by `physframes bench`; the next bench of this scene with the same \
+         --out replaces this folder.\n",
+    )
+    .map_err(|e| Error::io("cannot write", marker, e))?;
+    // Checked again in case the folder appeared while the scene was being measured.
+    check_replaceable(kept)?;
+    if kept.symlink_metadata().is_ok() {
+        std::fs::remove_dir_all(kept).map_err(|e| Error::io("cannot remove", kept, e))?;
+    }
+    // On failure, `folder` is dropped here and the temporary folder removed with it.
+    std::fs::rename(folder.path(), kept)
+        .map_err(|e| Error::io("cannot move frames to", kept, e))?;
+    // The frames are now at `kept`; nothing is left for `folder` to remove.
+    let _ = folder.keep();
+    Ok(())
 }
 
 /// Returns the total size of the frame files in a folder.

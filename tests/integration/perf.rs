@@ -543,6 +543,50 @@ fn bench_prints_frames_per_second_and_nanoseconds_per_body_step() {
 }
 
 #[test]
+fn bench_with_out_keeps_only_the_last_runs_frames_of_each_scene() {
+    let sandbox = Sandbox::new();
+    let scene_path = example("drag.toml");
+    let bench = |frames: &str, out: &str| {
+        sandbox.run(&[
+            "bench",
+            &scene_path,
+            "--repeat",
+            "2",
+            "--frames",
+            frames,
+            "--out",
+            out,
+        ])
+    };
+    let out = bench("0..3", "b");
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    // Each run rendered into its own temporary folder; only the last run's is left,
+    // under the scene's name.
+    assert_eq!(sandbox.list("b"), ["drag"]);
+    assert_eq!(
+        sandbox.frames("b/drag"),
+        ["frame_000000.png", "frame_000001.png", "frame_000002.png"]
+    );
+    assert_eq!(sandbox.manifest("b/drag")["frames_written"], 3);
+    // A second bench replaces the folder rather than adding to it or beside it.
+    let out = bench("0..2", "b");
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert_eq!(sandbox.list("b"), ["drag"]);
+    assert_eq!(
+        sandbox.frames("b/drag"),
+        ["frame_000000.png", "frame_000001.png"]
+    );
+    // A folder of the scene's name that bench did not keep, such as a render's, is
+    // never replaced: the bench stops before measuring, and leaves nothing behind.
+    sandbox.write("c/drag/frame_000000.png", "not bench's");
+    let out = bench("0..3", "c");
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains("not written by"), "{}", stderr(&out));
+    assert_eq!(sandbox.list("c"), ["drag"]);
+    assert_eq!(sandbox.list("c/drag"), ["frame_000000.png"]);
+}
+
+#[test]
 fn frames_compressed_with_reused_static_tiles_decode_to_the_same_pixels() {
     let text = std::fs::read_to_string(example("bench/circles-1000.toml")).expect("scene");
     // Many bodies touch every row; three leave most rows as the static layer drew them.
