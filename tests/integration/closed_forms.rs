@@ -236,15 +236,23 @@ fn a_comparison_measures_each_integrator_against_the_exact_path() {
     );
     let scene = scene(&text);
     let mut comparison = physframes::compare::Comparison::new(&scene).expect("compare is set");
-    let mut last = None;
-    for k in 0..scene.render.frame_count {
-        last = Some(comparison.advance_to(scene.frame_time(k)));
-    }
-    let frame = last.expect("frames");
+    let frames: Vec<_> = (0..scene.render.frame_count)
+        .map(|k| comparison.advance_to(scene.frame_time(k)))
+        .collect();
+    let frame = frames.last().expect("frames");
     assert_eq!(frame.reference, "exact");
     assert_eq!(frame.error_labels, vec!["euler", "rk4"]);
     let (t, errors) = frame.errors.last().expect("a row per frame").clone();
     assert_eq!(frame.errors.len() as u64, scene.render.frame_count);
+    // Every frame sees the history up to its own time, the rows later frames see too,
+    // and none after, though all frames share the history.
+    let all: Vec<_> = frame.errors.iter().collect();
+    for (k, earlier) in frames.iter().enumerate() {
+        let seen: Vec<_> = earlier.errors.iter().collect();
+        assert_eq!(seen, all[..=k], "frame {k}");
+        let own = earlier.errors.last().expect("its own row").0;
+        assert_eq!(own, scene.frame_time(k as u64), "frame {k}");
+    }
     // The puck's exact x at t: v0·m/k·(1 - e^(-kt/m)) with v0 = 3; Euler's is
     // Σ h·v0·(1 - h)^i = v0·(1 - (1 - h)^n), so its error is known in closed form.
     let n = (t / 0.01).round() as i32;
