@@ -101,6 +101,39 @@ impl Damage {
         }
     }
 
+    /// Keeps only the damage inside columns x0..x1 and rows y0..y1, after `restore`
+    /// has been called with each part of each rectangle outside them (at most four
+    /// bands: above, below, left and right), which returns those pixels to the
+    /// static layer. Whole damage stays whole.
+    pub fn keep_inside(&mut self, inside: PixelRect, mut restore: impl FnMut(PixelRect)) {
+        if self.whole {
+            return;
+        }
+        self.area = 0;
+        self.rects.retain_mut(|r| {
+            let band = |x0, y0, x1, y1| PixelRect { x0, y0, x1, y1 };
+            let (y0, y1) = (r.y0.max(inside.y0), r.y1.min(inside.y1));
+            let parts = [
+                band(r.x0, r.y0, r.x1, r.y1.min(inside.y0)),
+                band(r.x0, r.y0.max(inside.y1), r.x1, r.y1),
+                band(r.x0, y0, r.x1.min(inside.x0), y1),
+                band(r.x0.max(inside.x1), y0, r.x1, y1),
+            ];
+            for part in parts {
+                if part.x0 < part.x1 && part.y0 < part.y1 {
+                    restore(part);
+                }
+            }
+            *r = band(r.x0.max(inside.x0), y0, r.x1.min(inside.x1), y1);
+            r.x0 < r.x1 && r.y0 < r.y1
+        });
+        self.area = self
+            .rects
+            .iter()
+            .map(|r| u64::from(r.x1 - r.x0) * u64::from(r.y1 - r.y0))
+            .sum();
+    }
+
     /// Adds the pixels that a square of half-side `reach` around pixel position
     /// (x, y) touches, within a frame of `width` × `height`. A position that is not a
     /// number damages the whole frame, since nothing is known of where it drew.
@@ -158,5 +191,45 @@ mod tests {
         assert!(d.is_whole());
         d.clear();
         assert!(!d.is_whole() && d.rects().is_empty());
+    }
+
+    #[test]
+    fn keeping_the_inside_restores_exactly_the_parts_outside() {
+        let (w, h) = (40u32, 30u32);
+        let inside = PixelRect {
+            x0: 10,
+            y0: 5,
+            x1: 30,
+            y1: 25,
+        };
+        let mut d = Damage::default();
+        // Across the top-left corner, wholly inside, wholly outside (right margin).
+        d.add_rect((6, 2, 14, 9), w, h);
+        d.add_rect((12, 10, 16, 12), w, h);
+        d.add_rect((32, 10, 36, 20), w, h);
+        let before: Vec<PixelRect> = d.rects().to_vec();
+        let mut restored = vec![0u32; (w * h) as usize];
+        d.keep_inside(inside, |r| {
+            for y in r.y0..r.y1 {
+                for x in r.x0..r.x1 {
+                    restored[(y * w + x) as usize] += 1;
+                }
+            }
+        });
+        let within = |r: &PixelRect, x: u32, y: u32| x >= r.x0 && x < r.x1 && y >= r.y0 && y < r.y1;
+        for y in 0..h {
+            for x in 0..w {
+                let damaged = before.iter().any(|r| within(r, x, y));
+                let kept = d.rects().iter().any(|r| within(r, x, y));
+                let outside = !within(&inside, x, y);
+                // Each damaged pixel outside is restored once; the kept damage is
+                // exactly the damaged pixels inside.
+                let expected = u32::from(damaged && outside);
+                assert_eq!(restored[(y * w + x) as usize], expected, "({x}, {y})");
+                assert_eq!(kept, damaged && !outside, "({x}, {y})");
+            }
+        }
+        assert_eq!(d.rects().len(), 2);
+        assert_eq!(d.area, 4 * 4 + 4 * 2);
     }
 }

@@ -29,7 +29,7 @@ use glam::DVec2;
 use tiny_skia::{Color, Pixmap};
 
 pub use camera::Camera;
-pub use damage::Damage;
+pub use damage::{Damage, PixelRect};
 pub use encode::{encode_png, encode_png_into, Compression, Provenance};
 
 use crate::scene::Scene;
@@ -328,9 +328,19 @@ impl Renderer {
         if bodies_only {
             damage.clear();
             self.draw_bodies(frame, pixmap, Some(damage));
-            // With axes, bodies are wiped from the margins again: that only returns
-            // pixels to the static layer, so the damage still covers every change.
-            self.overlay.draw_frame(pixmap, &self.static_layer, frame);
+            // With axes, bodies are wiped from the margins again, which returns those
+            // pixels to the static layer: only where the bodies drew, after which the
+            // damage keeps to the plot.
+            if let Some(area) = self.overlay.body_area() {
+                let clamp = |v: i32, max: u32| v.clamp(0, max as i32) as u32;
+                let inside = PixelRect {
+                    x0: clamp(area.left(), self.width),
+                    y0: clamp(area.top(), self.height),
+                    x1: clamp(area.right(), self.width),
+                    y1: clamp(area.bottom(), self.height),
+                };
+                damage.keep_inside(inside, |r| copy_rect(pixmap, &self.static_layer, r));
+            }
         } else {
             damage.set_whole();
             self.draw_moving(frame, pixmap);
@@ -346,15 +356,8 @@ impl Renderer {
             }
             return;
         }
-        let stride = 4 * self.width as usize;
-        let from = self.static_layer.data();
-        let to = pixmap.data_mut();
         for r in damage.rects() {
-            let (x0, x1) = (4 * r.x0 as usize, 4 * r.x1 as usize);
-            for y in r.y0 as usize..r.y1 as usize {
-                let row = y * stride;
-                to[row + x0..row + x1].copy_from_slice(&from[row + x0..row + x1]);
-            }
+            copy_rect(pixmap, &self.static_layer, *r);
         }
     }
 
@@ -435,5 +438,16 @@ impl Renderer {
                 None => look.body.draw(pixmap, x, y),
             }
         }
+    }
+}
+
+/// Copies the pixels of `r` from `from` into `to`, two pixmaps of the same size.
+fn copy_rect(to: &mut Pixmap, from: &Pixmap, r: PixelRect) {
+    let stride = 4 * to.width() as usize;
+    let (x0, x1) = (4 * r.x0 as usize, 4 * r.x1 as usize);
+    let (from, to) = (from.data(), to.data_mut());
+    for y in r.y0 as usize..r.y1 as usize {
+        let row = y * stride;
+        to[row + x0..row + x1].copy_from_slice(&from[row + x0..row + x1]);
     }
 }

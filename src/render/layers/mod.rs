@@ -105,6 +105,13 @@ impl Overlay {
         self.legend || self.hud || self.layers.has_dynamic_layers()
     }
 
+    /// The pixels that bodies may show, when the margins around them are wiped after
+    /// the bodies are drawn (a frame with axes): everything outside is the static
+    /// layer's in every frame.
+    pub fn body_area(&self) -> Option<IntRect> {
+        self.restore_margins.then(|| self.chart.inner_area())
+    }
+
     /// Draws the axes and every layer that does not change between frames.
     pub fn draw_static(&self, pixmap: &mut Pixmap) {
         if self.axes {
