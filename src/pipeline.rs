@@ -182,17 +182,18 @@ fn render_full(
     let needs_forces = renderer.needs_forces();
     let needs_velocities = renderer.needs_velocities();
     let opaque = renderer.frames_are_opaque();
-    // The default compression encodes the static layer once; what it needs (opaque
-    // frames) is checked here, and the png crate encodes otherwise.
-    let static_png = (opaque && options.compression == Compression::Fast)
-        .then(|| StaticPng::new(renderer.static_layer()))
-        .flatten();
     let trails = scene.render.trails;
 
     let threads = match options.threads {
         0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
         n => n,
     };
+    // The default compression encodes the static layer once, on all the threads;
+    // what it needs (opaque frames) is checked here, and the png crate encodes
+    // otherwise.
+    let static_png = (opaque && options.compression == Compression::Fast)
+        .then(|| StaticPng::with_threads(renderer.static_layer(), threads))
+        .flatten();
     // The run starts from the nearest checkpoint at or before its first frame, if any.
     // Trace curves need every frame's values from t = 0, which checkpoints do not hold,
     // so a scene with traces always starts at t = 0.

@@ -5,10 +5,14 @@
 //! nothing moves. The encoder Up-filters rows (each byte minus the byte above it) and
 //! cuts every filtered row into tiles of 8 pixels. A tile of a frame whose pixels, and
 //! the pixels above them, equal the static layer's has the static layer's filtered
-//! bytes, so its compressed bits are computed once per render and copied into every
-//! frame; only tiles that something moving touched are compressed afresh.
+//! bytes. So each row of the static layer is compressed once per render, as one stream
+//! in which every nonzero tile's bits stand alone between runs of zeros; a frame's row
+//! copies, for each clean span between dirty tiles, the stretch of that stream from the
+//! span's first nonzero tile to its last in one piece, and compresses afresh only the
+//! tiles that something moving touched. The Adler-32 of a clean span comes from prefix
+//! sums of the static row, so clean tiles are neither filtered nor read.
 //!
-//! Which tiles those are comes from the renderer's [`Damage`] (the rectangles of the
+//! Which tiles are dirty comes from the renderer's [`Damage`] (the rectangles of the
 //! bodies it drew: [`StaticPng::encode_damaged`]), or, when nothing is known, from
 //! comparing the frame with the static layer ([`StaticPng::encode`]).
 //!
@@ -18,13 +22,13 @@
 //! frame is about the size `--compression fastest` gives. The pixels must be opaque
 //! (premultiplied and straight colour then agree); the caller checks. Compressing a
 //! dirty tile costs more than `fdeflate` spends on the same bytes inside a whole frame,
-//! so a frame with much damage (more than a tenth of its tiles, or most rows changed)
-//! is handed to `fdeflate` whole. Either way the bytes depend only on the frame and its
-//! damage, never on the worker or the frames before it.
+//! so a frame with much damage (by a cost model fitted to measurements:
+//! `StaticPng::tiles_pay`) is handed to `fdeflate` whole. Either way the bytes depend
+//! only on the frame and its damage, never on the worker, the frames before it or the
+//! number of threads that compressed the static layer.
 
 use std::sync::OnceLock;
 
-use simd_adler32::Adler32;
 use tiny_skia::Pixmap;
 
 use super::damage::Damage;
@@ -43,40 +47,77 @@ pub struct StaticPng {
     height: u32,
     /// The static layer's pixels, RGBA, row after row.
     pixels: Vec<u8>,
-    /// For each tile, row by row: what its filtered bytes compress to.
-    tiles: Vec<TileBits>,
-    /// For each tile, row by row: the index in its row of the first tile at or after
-    /// it that is not all zeros (tiles per row when none is), so that a clean span of
-    /// zero tiles is skipped at once.
-    next_bits: Vec<u16>,
-    /// For each tile that begins a run of two or more consecutive tiles that are not
-    /// all zero, row by row: the index in its row of the run's end, and what the whole
-    /// run compresses to; (0, unused) for every other tile.
-    joined: Vec<(u16, TileBits)>,
-    /// For each row, the filter-type byte and the whole filtered row compressed at
-    /// once (runs of zeros cross tiles), as bits of the pool, and its Adler-32: used
-    /// when the row and the row above equal the static layer's.
-    rows: Vec<(TileBits, u32)>,
-    /// For each row, whether its filtered bytes are all zero (the static layer is the
-    /// background there): tiles would then save nothing.
-    plain: Vec<bool>,
-    /// The compressed bits of the tiles, each starting on a byte; eight spare zero bytes
-    /// at the end let every tile be read in whole 64-bit words.
-    pool: Vec<u8>,
+    /// The compressed rows.
+    layer: Compressed,
     codes: &'static Codes,
 }
 
-/// What a tile of the static layer compresses to.
-#[derive(Clone, Copy, Debug)]
-enum TileBits {
-    /// All `len` filtered bytes are zero: the tile only lengthens the run of zeros.
-    Zeros { len: u32 },
-    /// `bits` bits starting at byte `start` of the pool.
-    Bits { start: u32, bits: u32 },
-    /// At most 64 bits, held here: most tiles of a sparse layer (a few pixels of an
-    /// arrow among background) compress to that, and are then written with one
-    /// store and no read of the pool.
-    Short { bits: u64, count: u32 },
+/// Compressed rows of a static layer, one after the other.
+///
+/// Each row is compressed once, as one stream of bits: its filter-type byte, then its
+/// nonzero stretches (each tile's bytes from its first nonzero byte to its last,
+/// compressed on their own) with the runs of zeros between them. Any stretch of that
+/// stream from the start of one tile's bits to the end of a later tile's is a valid
+/// DEFLATE encoding of the bytes between, so a clean span of a frame's row copies it
+/// in one piece, whatever the number of tiles inside.
+#[derive(Debug, Default)]
+struct Compressed {
+    /// Row by row, each tile whose filtered bytes are not all zero, left to right,
+    /// then one sentinel (`from` = tiles per row · TILE) that holds the row's sums.
+    /// Tiles of background are not stored: the gaps between these are runs of zeros.
+    /// An encoder walks a row's items with a cursor, as it walks the row's spans.
+    items: Vec<Item>,
+    /// For each row, the index in `items` of its first item.
+    row_items: Vec<u32>,
+    /// For each row, the byte of the pool where its stream starts, and the stream's
+    /// length in bits.
+    row_pool: Vec<u32>,
+    row_bits: Vec<u32>,
+    /// For each row, whether its filtered bytes are all zero (the static layer is the
+    /// background there): tiles would then save nothing.
+    plain: Vec<bool>,
+    /// How many 8-byte words of the static layer's filtered bytes are not zero.
+    busy_words: usize,
+    /// The rows' streams, each starting on a byte; eight spare zero bytes at the end
+    /// let every stretch be read in whole 64-bit words.
+    pool: Vec<u8>,
+}
+
+impl Compressed {
+    /// Joins the compressed rows of consecutive parts of a layer, in order; `None`
+    /// if an offset does not fit in 32 bits.
+    fn join(parts: Vec<Compressed>) -> Option<Compressed> {
+        let mut all = Compressed::default();
+        for part in parts {
+            let items = u32::try_from(all.items.len()).ok()?;
+            let pool = u32::try_from(all.pool.len()).ok()?;
+            all.row_items
+                .extend(part.row_items.iter().map(|k| k + items));
+            all.row_pool.extend(part.row_pool.iter().map(|k| k + pool));
+            all.row_bits.extend_from_slice(&part.row_bits);
+            all.items.extend_from_slice(&part.items);
+            all.pool.extend_from_slice(&part.pool);
+            all.plain.extend_from_slice(&part.plain);
+            all.busy_words += part.busy_words;
+        }
+        Some(all)
+    }
+}
+
+/// A nonzero tile of a static layer's row, or the row's sentinel.
+#[derive(Clone, Copy, Debug, Default)]
+struct Item {
+    /// The index in the row of its first nonzero byte, and of the byte after its last.
+    from: u32,
+    to: u32,
+    /// Where its bits start and end in the row's stream.
+    start: u32,
+    end: u32,
+    /// Over the row's filtered bytes f_i before it: Σ f_i, and Σ i·f_i with i the
+    /// byte's index in the row. The Adler-32 sums of any clean span follow from two
+    /// differences of these, whatever its length.
+    sum: u32,
+    weighted: u64,
 }
 
 /// The Huffman code of the DEFLATE block, as bits ready to write least significant
@@ -93,114 +134,78 @@ struct Codes {
     /// A match of length 3 to 258 at distance 1, length code, extra bits and distance
     /// code together: (bits, count), indexed by length.
     run: Vec<(u64, u32)>,
+    /// A whole run of n zeros, as `Deflate::write_run` writes it, for every n below
+    /// the length of this table: the shortest runs whose codes fit in 64 bits (about
+    /// a thousand bytes), so that nearly every run is one lookup and one write.
+    zeros: Vec<(u64, u32)>,
 }
 
 impl StaticPng {
     /// Compresses the tiles of a static layer, or returns `None` when the Huffman code
     /// cannot be read (then callers use the `png` crate).
     pub fn new(layer: &Pixmap) -> Option<Self> {
+        Self::with_threads(layer, 1)
+    }
+
+    /// Compresses the tiles of a static layer like [`StaticPng::new`], its rows
+    /// shared among `threads` threads. Each row is compressed on its own and the rows
+    /// are joined in order, so the result does not depend on the number of threads.
+    pub fn with_threads(layer: &Pixmap, threads: usize) -> Option<Self> {
         let codes = codes()?;
         let (width, height) = (layer.width(), layer.height());
         let stride = 4 * width as usize;
+        // The prefix sums are 32-bit and tile indices 16-bit: rows of up to 2^20 bytes
+        // (262,144 pixels) fit both; wider frames go to the `png` crate.
+        if stride > 1 << 20 {
+            return None;
+        }
         let pixels = layer.data().to_vec();
-        let mut filtered = vec![0; pixels.len()];
-        for y in 0..height as usize {
-            let row = &pixels[y * stride..(y + 1) * stride];
-            let out = &mut filtered[y * stride..(y + 1) * stride];
-            if y == 0 {
-                out.copy_from_slice(row);
-            } else {
-                let above = &pixels[(y - 1) * stride..y * stride];
-                up_filter(row, above, out);
+        // Rows ys of the layer, compressed one after the other.
+        let rows_of = |ys: std::ops::Range<usize>| -> Compressed {
+            let mut part = Compressed::default();
+            let mut filtered = vec![0; stride];
+            for y in ys {
+                let row = &pixels[y * stride..(y + 1) * stride];
+                if y == 0 {
+                    filtered.copy_from_slice(row);
+                } else {
+                    up_filter(row, &pixels[(y - 1) * stride..y * stride], &mut filtered);
+                }
+                compress_row(codes, &filtered, &mut part);
             }
-        }
-        let tiles_per_row = stride.div_ceil(TILE);
-        let mut tiles = Vec::with_capacity(height as usize * tiles_per_row);
-        let mut pool = Vec::new();
-        for y in 0..height as usize {
-            let row = &filtered[y * stride..(y + 1) * stride];
-            for tile in row.chunks(TILE) {
-                if tile.iter().all(|b| *b == 0) {
-                    tiles.push(TileBits::Zeros {
-                        len: tile.len() as u32,
-                    });
-                    continue;
-                }
-                tiles.push(compress_alone(codes, tile, &mut pool));
-            }
-        }
-        // Each run of consecutive tiles that are not all zero, compressed as one: a
-        // clean span that holds it whole copies it in one go.
-        let mut joined = vec![(0u16, TileBits::Zeros { len: 0 }); tiles.len()];
-        for y in 0..height as usize {
-            let row = &tiles[y * tiles_per_row..(y + 1) * tiles_per_row];
-            let mut t = 0;
-            while t < tiles_per_row {
-                if matches!(row[t], TileBits::Zeros { .. }) {
-                    t += 1;
-                    continue;
-                }
-                let start = t;
-                while t < tiles_per_row && !matches!(row[t], TileBits::Zeros { .. }) {
-                    t += 1;
-                }
-                if t - start > 1 {
-                    let bytes =
-                        &filtered[y * stride + start * TILE..y * stride + (t * TILE).min(stride)];
-                    joined[y * tiles_per_row + start] =
-                        (t as u16, compress_alone(codes, bytes, &mut pool));
-                }
-            }
-        }
-        let mut next_bits = vec![0u16; tiles.len()];
-        for (row, next) in tiles
-            .chunks(tiles_per_row)
-            .zip(next_bits.chunks_mut(tiles_per_row))
-        {
-            let mut after = tiles_per_row as u16;
-            for t in (0..tiles_per_row).rev() {
-                if !matches!(row[t], TileBits::Zeros { .. }) {
-                    after = t as u16;
-                }
-                next[t] = after;
-            }
-        }
-        let plain = filtered
-            .chunks(stride)
-            .map(|row| row.iter().all(|b| *b == 0))
-            .collect();
-        let mut rows = Vec::with_capacity(height as usize);
-        for row in filtered.chunks(stride) {
-            let mut w = Deflate::new(codes, Vec::new());
-            w.literal(usize::from(UP));
-            w.bytes(row);
-            w.flush_run();
-            let (bytes, bits) = w.into_bits();
-            let mut h = Adler32::new();
-            h.write(&[UP]);
-            h.write(row);
-            rows.push((
-                TileBits::Bits {
-                    start: pool.len() as u32,
-                    bits: bits as u32,
-                },
-                h.finish(),
-            ));
-            pool.extend_from_slice(&bytes);
-        }
-        pool.extend_from_slice(&[0; 8]);
-        Some(StaticPng {
-            joined,
-            next_bits,
-            rows,
-            plain,
+            part
+        };
+        let h = height as usize;
+        let threads = threads.clamp(1, h.max(1));
+        let layer = if threads == 1 {
+            rows_of(0..h)
+        } else {
+            let per = h.div_ceil(threads);
+            let parts: Vec<Compressed> = std::thread::scope(|scope| {
+                let handles: Vec<_> = (0..threads)
+                    .map(|k| {
+                        let ys = (k * per).min(h)..((k + 1) * per).min(h);
+                        scope.spawn(move || rows_of(ys))
+                    })
+                    .collect();
+                handles
+                    .into_iter()
+                    // A worker only compresses; it cannot panic short of a bug, and
+                    // then the panic goes on.
+                    .map(|t| t.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
+                    .collect()
+            });
+            Compressed::join(parts)?
+        };
+        let mut png = StaticPng {
             width,
             height,
             pixels,
-            tiles,
-            pool,
+            layer,
             codes,
-        })
+        };
+        png.layer.pool.extend_from_slice(&[0; 8]);
+        Some(png)
     }
 
     /// Encodes a frame drawn over this static layer (same size, every pixel opaque) as
@@ -238,7 +243,8 @@ impl StaticPng {
     /// where it may differ from the static layer: the tiles outside the damage (and
     /// below none of it, since the Up filter reads the row above) are the static
     /// layer's, so their bits are copied without comparing any pixel. Whole damage
-    /// falls back to [`StaticPng::encode`].
+    /// falls back to [`StaticPng::encode`], and so does damage over so many tiles
+    /// that `fdeflate` over the whole frame is quicker (`StaticPng::tiles_pay`).
     pub fn encode_damaged(
         &self,
         frame: &Pixmap,
@@ -249,6 +255,30 @@ impl StaticPng {
         if damage.is_whole() {
             return self.encode(frame, provenance, out);
         }
+        self.encode_damaged_with(frame, damage, provenance, out, false)
+    }
+
+    /// Encodes a frame like [`StaticPng::encode_damaged`], always compressing the
+    /// damaged tiles and copying the others (whole damage: every tile compressed), for
+    /// measuring that path against `fdeflate`.
+    pub fn encode_damaged_tiles(
+        &self,
+        frame: &Pixmap,
+        damage: &Damage,
+        provenance: &Provenance,
+        out: &mut Vec<u8>,
+    ) -> Result<(), png::EncodingError> {
+        self.encode_damaged_with(frame, damage, provenance, out, true)
+    }
+
+    fn encode_damaged_with(
+        &self,
+        frame: &Pixmap,
+        damage: &Damage,
+        provenance: &Provenance,
+        out: &mut Vec<u8>,
+        always_tiles: bool,
+    ) -> Result<(), png::EncodingError> {
         assert_eq!((frame.width(), frame.height()), (self.width, self.height));
         let tiles_per_row = (4 * self.width as usize).div_ceil(TILE);
         let words = tiles_per_row.div_ceil(64);
@@ -256,6 +286,9 @@ impl StaticPng {
         // One bit per tile, row by row: set when the tile, or the tile above it, may
         // differ from the static layer.
         let mut dirty = vec![0u64; height * words];
+        if damage.is_whole() {
+            dirty.fill(u64::MAX);
+        }
         for r in damage.rects() {
             // Pixels x0..x1 are bytes 4·x0..4·x1, so tiles 4·x0/TILE to ⌈4·x1/TILE⌉.
             let (t0, t1) = (4 * r.x0 as usize / TILE, (4 * r.x1 as usize).div_ceil(TILE));
@@ -267,12 +300,8 @@ impl StaticPng {
                 }
             }
         }
-        // Compressing a dirty tile costs several times what fdeflate spends on the
-        // same bytes within a whole frame (measured: at 22% of tiles dirty the tiles
-        // take 1.3 times fdeflate's time over the whole frame), so beyond a tenth of
-        // the tiles the whole frame goes to fdeflate, as `--compression fastest`.
         let dirty_tiles: u32 = dirty.iter().map(|w| w.count_ones()).sum();
-        if 10 * dirty_tiles as usize > height * tiles_per_row {
+        if !always_tiles && !self.tiles_pay(dirty_tiles as usize, height * tiles_per_row) {
             return encode_png_into(out, frame, provenance, Compression::Fastest, true);
         }
         let data = frame.data();
@@ -282,7 +311,11 @@ impl StaticPng {
                 return RowPlan::Static;
             }
             dirty_row.copy_from_slice(row);
-            let count: u32 = row.iter().map(|w| w.count_ones()).sum();
+            let count = row
+                .iter()
+                .map(|w| w.count_ones())
+                .sum::<u32>()
+                .min(tiles_per_row as u32);
             // Few clean tiles save less than switching between spans costs.
             if 4 * (tiles_per_row - count as usize) < tiles_per_row {
                 RowPlan::Afresh
@@ -291,6 +324,27 @@ impl StaticPng {
             }
         });
         Ok(())
+    }
+
+    /// Whether compressing only the dirty tiles, and copying the others, is quicker
+    /// than `fdeflate` over the whole frame, given the number of dirty tiles.
+    ///
+    /// A dirty tile costs more than `fdeflate` spends on the same bytes in a whole
+    /// frame (its spans are found and filtered one by one); a clean tile costs next
+    /// to nothing, and saves what `fdeflate` would spend on it: a little for a tile of
+    /// background, much more for a tile of arrows or text, whose nonzero bytes it
+    /// would code one by one. Fitted to encoding times at 1280 × 720 with 1000 to 2500
+    /// circles over the background and over 500 arrows and axes (see the README's
+    /// Performance section), per 8-byte word of the frame, with d the dirty fraction
+    /// of the tiles: the tiles save 0.8 ns per word of the frame and 15 ns per nonzero
+    /// word of the static layer outside the damage, and cost 2.6 ns per word of the
+    /// frame per unit of d. Over the background they pay up to d ≈ 31%; over the
+    /// arrows, beyond the quarter of the frame where damage becomes whole.
+    fn tiles_pay(&self, dirty_tiles: usize, tiles: usize) -> bool {
+        let words = (self.pixels.len() / 8).max(1) as f64;
+        let d = dirty_tiles as f64 / tiles.max(1) as f64;
+        let busy = self.layer.busy_words as f64 / words;
+        2.6 * d < 0.8 + 15.0 * busy * (1.0 - d)
     }
 
     /// Encodes a frame reusing the static layer's compressed rows and tiles, finding
@@ -311,7 +365,7 @@ impl StaticPng {
             let plan = if row_same && above_row_same {
                 same.fill(true);
                 RowPlan::Static
-            } else if self.plain[y] {
+            } else if self.layer.plain[y] {
                 // Tiles of a row that is the background save nothing.
                 same.fill(row_same);
                 RowPlan::Afresh
@@ -390,83 +444,98 @@ impl StaticPng {
         out.extend_from_slice(&self.codes.zlib);
         let mut w = Deflate::new(self.codes, std::mem::take(out));
         w.put_stored_bits(&self.codes.header, self.codes.header_bits);
-        // The Adler-32 of the filtered bytes so far.
-        let mut adler = 1u32;
+        // The Adler-32 of the filtered bytes so far, its two sums reduced once a row.
+        let mut adler = Sums { a: 1, b: 0 };
         let mut row_filtered = vec![0u8; stride];
         let mut dirty = vec![0u64; tiles_per_row.div_ceil(64)];
         for y in 0..self.height as usize {
             let row = &data[y * stride..(y + 1) * stride];
             let how = plan(y, &mut dirty);
+            w.flush_run();
+            adler.add_byte(UP);
             if let RowPlan::Static = how {
                 // The whole filtered row is the static layer's: copy its bits.
-                if let (TileBits::Bits { start, bits }, row_adler) = self.rows[y] {
-                    w.flush_run();
-                    w.put_pool_bits(&self.pool[start as usize..], bits as usize);
-                    adler = adler_combine(adler, row_adler, stride + 1);
-                }
+                let stream = &self.layer.pool[self.layer.row_pool[y] as usize..];
+                w.put_bit_range(stream, 0, self.layer.row_bits[y] as usize);
+                // The row's sentinel holds its sums; the first item's are zero.
+                let end = self
+                    .layer
+                    .row_items
+                    .get(y + 1)
+                    .map_or(self.layer.items.len(), |e| *e as usize);
+                let total = self.layer.items[end - 1];
+                let s2 = stride as u64 * u64::from(total.sum) - total.weighted;
+                adler.add_sums(stride as u64, u64::from(total.sum), s2);
+                adler.reduce();
                 continue;
             }
-            w.flush_run();
             w.literal(usize::from(UP));
-            // The whole row is filtered and summed at once: one pass each, faster than
-            // a pass per span for rows cut into many spans.
-            if y == 0 {
-                row_filtered.copy_from_slice(row);
-            } else {
-                up_filter(row, &data[(y - 1) * stride..y * stride], &mut row_filtered);
-            }
-            adler = adler_update(adler, &[UP]);
-            adler = adler_update(adler, &row_filtered);
+            let above = (y > 0).then(|| &data[(y - 1) * stride..y * stride]);
+            // Filters bytes a..b of the row into the same bytes of `out`.
+            let filter = |a: usize, b: usize, out: &mut [u8]| match above {
+                Some(above) => up_filter(&row[a..b], &above[a..b], &mut out[a..b]),
+                None => out[a..b].copy_from_slice(&row[a..b]),
+            };
             if let RowPlan::Afresh = how {
+                filter(0, stride, &mut row_filtered);
+                adler.add(&row_filtered);
                 w.bytes(&row_filtered);
+                adler.reduce();
                 continue;
             }
-            // Walk the row in spans: clean tiles first..d, then dirty tiles d..t.
-            let base = y * tiles_per_row;
+            // Walk the row in spans: clean tiles first..d, then dirty tiles d..t. Only
+            // the dirty tiles are filtered, summed and compressed; the clean ones are
+            // the static layer's, compressed and summed once per render. A cursor
+            // follows the walk through the row's nonzero static tiles.
+            let items = &self.layer.items[self.layer.row_items[y] as usize..];
+            let stream = &self.layer.pool[self.layer.row_pool[y] as usize..];
+            let mut i = 0;
             let mut first = 0;
             while first < tiles_per_row {
                 let d = next_bit(&dirty, first, true).min(tiles_per_row);
-                // The static layer's filtered bytes, compressed once per render: runs of
-                // zero tiles are skipped whole, the others copied.
-                let mut k = first;
-                while k < d {
-                    let next = (self.next_bits[base + k] as usize).min(d);
-                    w.run += (next * TILE).min(stride) - k * TILE;
-                    if next == d {
-                        break;
-                    }
-                    // A run of non-zero tiles wholly in the span goes in one copy.
-                    let (end, run_bits) = self.joined[base + next];
-                    let (bits, end) = if end as usize > next && end as usize <= d {
-                        (run_bits, end as usize)
-                    } else {
-                        (self.tiles[base + next], next + 1)
-                    };
-                    match bits {
-                        TileBits::Zeros { len } => w.run += len as usize,
-                        TileBits::Short { bits, count } => {
-                            w.flush_run();
-                            w.put(bits, count);
-                        }
-                        TileBits::Bits { start, bits } => {
-                            w.flush_run();
-                            w.put_pool_bits(&self.pool[start as usize..], bits as usize);
-                        }
-                    }
-                    k = end;
+                let (p, q) = (first * TILE, (d * TILE).min(stride));
+                // Static tiles in the dirty span before are passed over.
+                while (items[i].from as usize) < p {
+                    i += 1;
                 }
+                let mut j = i;
+                while (items[j].from as usize) < d * TILE {
+                    j += 1;
+                }
+                if j > i {
+                    // The zeros up to the first nonzero tile, the stream from its bits
+                    // to the end of the last one's, and the zeros after, pending.
+                    w.run += items[i].from as usize - p;
+                    w.flush_run();
+                    w.put_bit_range(stream, items[i].start as usize, items[j - 1].end as usize);
+                    w.run = q - items[j - 1].to as usize;
+                } else {
+                    w.run += q - p;
+                }
+                // The span's Adler-32 sums, from the prefix sums before its first
+                // nonzero tile and before the first one after it: s1 = Σ f_i and
+                // s2 = Σ (q - i)·f_i = q·s1 - Σ i·f_i over p ≤ i < q.
+                let (before, after) = (items[i], items[j]);
+                let s1 = u64::from(after.sum - before.sum);
+                let s2 = q as u64 * s1 - (after.weighted - before.weighted);
+                adler.add_sums((q - p) as u64, s1, s2);
+                i = j;
                 if d == tiles_per_row {
                     break;
                 }
                 let t = next_bit(&dirty, d, false).min(tiles_per_row);
-                w.bytes(&row_filtered[d * TILE..(t * TILE).min(stride)]);
+                let (a, b) = (d * TILE, (t * TILE).min(stride));
+                filter(a, b, &mut row_filtered);
+                adler.add(&row_filtered[a..b]);
+                w.bytes(&row_filtered[a..b]);
                 first = t;
             }
+            adler.reduce();
         }
         w.flush_run();
         w.literal(256);
         let (mut bytes, _) = w.into_bits();
-        bytes.extend_from_slice(&adler.to_be_bytes());
+        bytes.extend_from_slice(&adler.finish().to_be_bytes());
         *out = bytes;
         let length = (out.len() - idat_start - 8) as u32;
         out[idat_start..idat_start + 4].copy_from_slice(&length.to_be_bytes());
@@ -510,50 +579,142 @@ enum RowPlan {
     Tiles,
 }
 
-/// Compresses `bytes` (not all zero) on their own: as bits held in place when they
-/// fit in 64, or appended to the pool.
-fn compress_alone(codes: &'static Codes, bytes: &[u8], pool: &mut Vec<u8>) -> TileBits {
-    let mut w = Deflate::new(codes, Vec::new());
-    w.bytes(bytes);
-    w.flush_run();
-    let (out, bits) = w.into_bits();
-    if bits <= 64 {
-        let mut word = [0u8; 8];
-        word[..out.len()].copy_from_slice(&out);
-        return TileBits::Short {
-            bits: u64::from_le_bytes(word),
-            count: bits as u32,
+/// Compresses one filtered row of the static layer and appends it to `part`: its
+/// stream (the filter-type byte, each nonzero tile's stretch from its first nonzero
+/// byte to its last, and the runs of zeros between), where each tile's bits start and
+/// end in it, and the sums Adler-32 needs.
+fn compress_row(codes: &Codes, filtered: &[u8], part: &mut Compressed) {
+    let stride = filtered.len();
+    let tiles_per_row = stride.div_ceil(TILE);
+    // How many 8-byte words of `bytes` are not zero, read a word at a time.
+    let busy = |bytes: &[u8]| {
+        let chunks = bytes.chunks_exact(8);
+        let rest = chunks.remainder().iter().fold(0u8, |a, b| a | b);
+        chunks
+            .map(|w| u64::from_le_bytes(w.try_into().unwrap_or_default()))
+            .filter(|w| *w != 0)
+            .count()
+            + usize::from(rest != 0)
+    };
+    part.row_items.push(part.items.len() as u32);
+    part.row_pool.push(part.pool.len() as u32);
+    let mut w = Deflate::new(codes, std::mem::take(&mut part.pool));
+    let base = 8 * w.out.len();
+    w.literal(usize::from(UP));
+    let (mut sum, mut weighted) = (0u32, 0u64);
+    let mut at = 0;
+    let mut plain = true;
+    for (k, tile) in filtered.chunks(TILE).enumerate() {
+        if busy(tile) == 0 {
+            continue;
+        }
+        let (Some(first), Some(last)) = (
+            tile.iter().position(|b| *b != 0),
+            tile.iter().rposition(|b| *b != 0),
+        ) else {
+            continue;
         };
+        plain = false;
+        let (from, to) = (k * TILE + first, k * TILE + last + 1);
+        w.run += from - at;
+        w.flush_run();
+        let start = w.bit_position() - base;
+        w.bytes(&filtered[from..to]);
+        let end = w.bit_position() - base;
+        at = to;
+        part.items.push(Item {
+            from: from as u32,
+            to: to as u32,
+            start: start as u32,
+            end: end as u32,
+            sum,
+            weighted,
+        });
+        // Σ f_j and Σ j·f_j within the tile (small enough for 32 bits), then
+        // Σ i·f_i = Σ (k·TILE + j)·f_j over the row.
+        let (mut s, mut v) = (0u32, 0u32);
+        for (j, &f) in tile.iter().enumerate() {
+            s += u32::from(f);
+            v += j as u32 * u32::from(f);
+        }
+        sum += s;
+        weighted += (k * TILE) as u64 * u64::from(s) + u64::from(v);
     }
-    let start = pool.len() as u32;
-    pool.extend_from_slice(&out);
-    TileBits::Bits {
-        start,
-        bits: bits as u32,
+    w.run += stride - at;
+    w.flush_run();
+    part.row_bits.push((w.bit_position() - base) as u32);
+    let (pool, _) = w.into_bits();
+    part.pool = pool;
+    part.plain.push(plain);
+    if !plain {
+        part.busy_words += busy(filtered);
     }
+    // The sentinel: past the last tile, with the row's sums.
+    let past = (tiles_per_row * TILE) as u32;
+    part.items.push(Item {
+        from: past,
+        to: past,
+        start: 0,
+        end: 0,
+        sum,
+        weighted,
+    });
 }
 
 /// The modulus of Adler-32.
 const ADLER: u64 = 65521;
 
-/// Continues an Adler-32 checksum over `data`.
-fn adler_update(adler: u32, data: &[u8]) -> u32 {
-    let mut h = Adler32::from_checksum(adler);
-    h.write(data);
-    h.finish()
+/// The two sums of an Adler-32 checksum, a = 1 + Σ x and b = Σ of a after each byte,
+/// kept in 64 bits and reduced modulo 65521 only once per row.
+///
+/// After L more bytes x_0..x_{L-1}: a' = a + Σ x_j and b' = b + L·a + Σ (L - j)·x_j.
+/// Within one row a stays below 2^32 and b below 2^48 for any width PNG allows, so the
+/// 64-bit sums cannot overflow between reductions.
+#[derive(Clone, Copy, Debug)]
+struct Sums {
+    a: u64,
+    b: u64,
 }
 
-/// Combines the Adler-32 of two strings into that of their concatenation, given the
-/// second's length (as zlib's adler32_combine): a = a1 + a2 - 1 and
-/// b = b1 + b2 + len2·(a1 - 1), modulo 65521.
-fn adler_combine(first: u32, second: u32, len2: usize) -> u32 {
-    let m = ADLER;
-    let (a1, b1) = (u64::from(first & 0xffff), u64::from(first >> 16));
-    let (a2, b2) = (u64::from(second & 0xffff), u64::from(second >> 16));
-    let len = len2 as u64 % m;
-    let a = (a1 + a2 + m - 1) % m;
-    let b = (b1 + b2 + len * ((a1 + m - 1) % m)) % m;
-    (b << 16 | a) as u32
+impl Sums {
+    #[inline(always)]
+    fn add_byte(&mut self, x: u8) {
+        self.a += u64::from(x);
+        self.b += self.a;
+    }
+
+    /// Adds L bytes given s1 = Σ x_j and s2 = Σ (L - j)·x_j.
+    #[inline(always)]
+    fn add_sums(&mut self, len: u64, s1: u64, s2: u64) {
+        self.b += len * self.a + s2;
+        self.a += s1;
+    }
+
+    /// Adds bytes: `simd-adler32` gives their own checksum, a' = 1 + s1 and
+    /// b' = L + s2 modulo 65521, from which s1 and s2 follow (modulo 65521, which is
+    /// all the checksum keeps).
+    #[inline]
+    fn add(&mut self, data: &[u8]) {
+        let mut h = simd_adler32::Adler32::new();
+        h.write(data);
+        let own = u64::from(h.finish());
+        let len = data.len() as u64;
+        let s1 = ((own & 0xffff) + ADLER - 1) % ADLER;
+        let s2 = ((own >> 16) + ADLER - len % ADLER) % ADLER;
+        self.add_sums(len, s1, s2);
+    }
+
+    #[inline(always)]
+    fn reduce(&mut self) {
+        self.a %= ADLER;
+        self.b %= ADLER;
+    }
+
+    /// The checksum: b in the high 16 bits, a in the low.
+    fn finish(mut self) -> u32 {
+        self.reduce();
+        (self.b << 16 | self.a) as u32
+    }
 }
 
 /// Writes a PNG chunk: length, type, data, CRC-32 of type and data.
@@ -575,8 +736,8 @@ fn up_filter(row: &[u8], above: &[u8], out: &mut [u8]) {
 }
 
 /// A DEFLATE bit writer with the run-of-zeros state of the encoder.
-struct Deflate {
-    codes: &'static Codes,
+struct Deflate<'c> {
+    codes: &'c Codes,
     out: Vec<u8>,
     /// Bits not yet written, least significant first, and how many.
     acc: u64,
@@ -585,8 +746,8 @@ struct Deflate {
     run: usize,
 }
 
-impl Deflate {
-    fn new(codes: &'static Codes, out: Vec<u8>) -> Self {
+impl<'c> Deflate<'c> {
+    fn new(codes: &'c Codes, out: Vec<u8>) -> Self {
         Deflate {
             codes,
             out,
@@ -622,6 +783,36 @@ impl Deflate {
     fn literal(&mut self, symbol: usize) {
         let (code, length) = self.codes.literal[symbol];
         self.put(code, length);
+    }
+
+    /// The number of bits written so far.
+    #[inline(always)]
+    fn bit_position(&self) -> usize {
+        8 * self.out.len() + self.n as usize
+    }
+
+    /// Appends bits `from..to` of `bytes` (bit i is bit i % 8 of byte i / 8), which
+    /// must hold eight bytes past them: 56 at a time, from unaligned 64-bit reads.
+    #[inline]
+    fn put_bit_range(&mut self, bytes: &[u8], from: usize, to: usize) {
+        let word_at = |bit: usize| {
+            let at = bit / 8;
+            let word = bytes
+                .get(at..at + 8)
+                .and_then(|b| b.try_into().ok())
+                .map_or(0, u64::from_le_bytes);
+            word >> (bit % 8)
+        };
+        const CHUNK: usize = 56;
+        let mut bit = from;
+        while to - bit >= CHUNK {
+            self.put(word_at(bit) & ((1 << CHUNK) - 1), CHUNK as u32);
+            bit += CHUNK;
+        }
+        let rest = to - bit;
+        if rest > 0 {
+            self.put(word_at(bit) & ((1 << rest) - 1), rest as u32);
+        }
     }
 
     /// Appends `count` bits stored least significant first from the start of `bytes`,
@@ -725,21 +916,14 @@ impl Deflate {
     /// up to 258 bytes, and at the end literal zeros for a rest shorter than 3.
     #[inline(always)]
     fn flush_run(&mut self) {
-        match self.run {
-            0 => {}
-            // One or two zeros are literals (a match is at least 3 bytes long), written
-            // in one go: the common case of an alpha byte between colour bytes.
-            1 | 2 => {
-                let (code, length) = self.codes.literal[0];
-                let (bits, count) = if self.run == 1 {
-                    (code, length)
-                } else {
-                    (code | code << length, 2 * length)
-                };
+        // A run found in the table (an empty run is 0 bits) is one write; a longer
+        // one is written piece by piece.
+        match self.codes.zeros.get(self.run) {
+            Some(&(bits, count)) => {
                 self.run = 0;
                 self.put(bits, count);
             }
-            _ => self.write_run(),
+            None => self.write_run(),
         }
     }
 
@@ -857,13 +1041,34 @@ fn read_codes() -> Option<Codes> {
         let bits = code | extra << code_length | distance_one.0 << (code_length + EXTRA[k]);
         *entry = (bits, code_length + EXTRA[k] + distance_one.1);
     }
-    Some(Codes {
+    let mut codes = Codes {
         header,
         header_bits,
         zlib,
         literal,
         run,
-    })
+        zeros: Vec::new(),
+    };
+    codes.zeros = zero_runs(&codes);
+    Some(codes)
+}
+
+/// The bits of every run of zeros that `Deflate::write_run` writes in at most 64 bits,
+/// indexed by the run's length, up to the first that takes more.
+fn zero_runs(codes: &Codes) -> Vec<(u64, u32)> {
+    let mut zeros = vec![(0, 0)];
+    loop {
+        let mut w = Deflate::new(codes, Vec::new());
+        w.run = zeros.len();
+        w.write_run();
+        let (out, count) = w.into_bits();
+        if count > 64 {
+            return zeros;
+        }
+        let mut word = [0u8; 8];
+        word[..out.len()].copy_from_slice(&out);
+        zeros.push((u64::from_le_bytes(word), count as u32));
+    }
 }
 
 /// Assigns canonical Huffman codes to code lengths (RFC 1951, 3.2.2).
@@ -938,7 +1143,7 @@ mod tests {
         let length = u32::from_be_bytes(png[at - 4..at].try_into().expect("4 bytes")) as usize;
         let data = &png[at + 4..at + 4 + length];
         let stored = u32::from_be_bytes(data[data.len() - 4..].try_into().expect("4 bytes"));
-        let mut h = Adler32::new();
+        let mut h = simd_adler32::Adler32::new();
         let mut filtered = vec![0; stride];
         for (y, row) in pixels.chunks(stride).enumerate() {
             if y == 0 {
@@ -1037,31 +1242,102 @@ mod tests {
     #[test]
     fn damaged_frames_decode_to_their_pixels() {
         // The frames of the test above, drawn over an odd width (a partial tile ends
-        // every row), encoded from their damage: a few discs take the tile path, more
-        // damage than a tenth of the tiles goes to fdeflate whole.
+        // every row), encoded from their damage, both by the tile path (forced) and
+        // by the encoder's choice; the last is damaged whole.
         let (width, height) = (203, 61);
+        let layer = grey_discs(width, height);
+        let encoder = StaticPng::new(&layer).expect("the fdeflate code is readable");
+        let mut out = Vec::new();
+        for k in 0..9 {
+            let (frame, damage) = frame_with_discs(&layer, k);
+            let damage = if k == 8 { Damage::whole() } else { damage };
+            for forced in [false, true] {
+                if forced {
+                    encoder.encode_damaged_tiles(&frame, &damage, &Provenance::default(), &mut out)
+                } else {
+                    encoder.encode_damaged(&frame, &damage, &Provenance::default(), &mut out)
+                }
+                .expect("encodes");
+                assert_eq!(
+                    decode(&out).0,
+                    frame.data(),
+                    "frame {k}, tiles forced: {forced}"
+                );
+                check_adler(&out, frame.data(), 4 * width as usize);
+            }
+        }
+    }
+
+    /// A static layer with detail: a row of grey discs over an off-white background.
+    fn grey_discs(width: u32, height: u32) -> Pixmap {
         let mut layer = Pixmap::new(width, height).expect("pixmap");
         layer.fill(Color::from_rgba8(250, 250, 245, 255));
         for k in 0..12 {
             let grey = Color::from_rgba8(90, 90, 90, 255);
             disc(&mut layer, 17.0 * k as f32, 30.0, 6.5, grey);
         }
-        let encoder = StaticPng::new(&layer).expect("the fdeflate code is readable");
-        let mut out = Vec::new();
-        for k in 0..8 {
-            let mut frame = layer.clone();
-            let mut damage = Damage::default();
-            for j in 0..k {
-                let (x, y) = ((j * 71 % 211) as f32 - 3.0, (j * 23 % 67) as f32);
-                let c = Color::from_rgba8(30 * k as u8, 200, (j * 9) as u8, 255);
-                disc(&mut frame, x, y, 4.3, c);
-                damage.add_around(x, y, 4.3 + 1.0, width, height);
-            }
-            encoder
-                .encode_damaged(&frame, &damage, &Provenance::default(), &mut out)
+        layer
+    }
+
+    /// The layer with `k` coloured discs drawn over it, and their damage.
+    fn frame_with_discs(layer: &Pixmap, k: usize) -> (Pixmap, Damage) {
+        let (width, height) = (layer.width(), layer.height());
+        let mut frame = layer.clone();
+        let mut damage = Damage::default();
+        for j in 0..k {
+            let (x, y) = ((j * 71 % 211) as f32 - 3.0, (j * 23 % 67) as f32);
+            let c = Color::from_rgba8(30 * k as u8, 200, (j * 9) as u8, 255);
+            disc(&mut frame, x, y, 4.3, c);
+            damage.add_around(x, y, 4.3 + 1.0, width, height);
+        }
+        (frame, damage)
+    }
+
+    #[test]
+    fn the_layer_compresses_to_the_same_bits_on_any_number_of_threads() {
+        let layer = grey_discs(203, 61);
+        let one = StaticPng::new(&layer).expect("readable");
+        let (frame, damage) = frame_with_discs(&layer, 5);
+        let mut expected = Vec::new();
+        one.encode_damaged_tiles(&frame, &damage, &Provenance::default(), &mut expected)
+            .expect("encodes");
+        for threads in [2, 3, 7, 200] {
+            let many = StaticPng::with_threads(&layer, threads).expect("readable");
+            assert_eq!(many.layer.pool, one.layer.pool, "{threads} threads");
+            let mut out = Vec::new();
+            many.encode_damaged_tiles(&frame, &damage, &Provenance::default(), &mut out)
                 .expect("encodes");
-            assert_eq!(decode(&out).0, frame.data(), "frame {k}");
-            check_adler(&out, frame.data(), 4 * width as usize);
+            assert_eq!(out, expected, "{threads} threads");
+        }
+    }
+
+    #[test]
+    fn copied_tiles_cost_no_more_bytes_than_compressing_the_whole_frame() {
+        // Runs of zeros cross from the static layer's tiles into the frame's and back
+        // as in one stream: the tile path's frame is within a few bytes of fdeflate's
+        // (same code, same runs; only where a run meets a dirty span may it split).
+        let layer = grey_discs(203, 61);
+        let encoder = StaticPng::new(&layer).expect("readable");
+        for k in [0, 1, 3] {
+            let (frame, damage) = frame_with_discs(&layer, k);
+            let (mut tiles, mut whole) = (Vec::new(), Vec::new());
+            encoder
+                .encode_damaged_tiles(&frame, &damage, &Provenance::default(), &mut tiles)
+                .expect("encodes");
+            encode_png_into(
+                &mut whole,
+                &frame,
+                &Provenance::default(),
+                Compression::Fastest,
+                true,
+            )
+            .expect("encodes");
+            assert!(
+                tiles.len() <= whole.len() + whole.len() / 100 + 16,
+                "{k} discs: {} bytes by tiles, {} by fdeflate",
+                tiles.len(),
+                whole.len()
+            );
         }
     }
 }
