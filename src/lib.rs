@@ -12,6 +12,7 @@ pub mod compare;
 pub mod diff;
 pub mod error;
 pub mod figures;
+pub mod history;
 pub mod memory;
 pub mod output;
 pub mod pipeline;
