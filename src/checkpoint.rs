@@ -27,6 +27,7 @@ use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
 use crate::error::{Error, Result};
+use crate::history::{HistoryWriter, PointHistory};
 use crate::output::write_atomic;
 use crate::scene::Scene;
 use crate::sim::{IntegratorKind, Simulation, State};
@@ -125,8 +126,10 @@ struct Header {
 
 impl Checkpoint {
     /// Records the simulation's state after frame `frame`; `history` holds the
-    /// positions at frames 0 ..= frame when trails are on, and is empty otherwise.
-    pub fn capture(frame: u64, sim: &Simulation, history: &[Arc<[DVec2]>]) -> Self {
+    /// positions at frames 0 ..= frame when trails are on, and is empty otherwise. The
+    /// trail is copied out of the shared history (one pointer a frame), which the file
+    /// needs anyway.
+    pub fn capture(frame: u64, sim: &Simulation, history: &PointHistory) -> Self {
         let state = sim.state();
         Checkpoint {
             frame,
@@ -134,7 +137,11 @@ impl Checkpoint {
             t: state.t,
             pos: state.pos.clone(),
             vel: state.vel.clone(),
-            trail: history[..history.len().min(frame as usize)].to_vec(),
+            trail: history
+                .iter()
+                .take(usize::try_from(frame).unwrap_or(usize::MAX))
+                .cloned()
+                .collect(),
         }
     }
 
@@ -248,7 +255,7 @@ impl CheckpointWriter {
         &mut self,
         frame: u64,
         sim: &Simulation,
-        history: &[Arc<[DVec2]>],
+        history: &PointHistory,
     ) -> Result<()> {
         if frame == 0 || frame % self.every != 0 {
             return Ok(());
@@ -288,7 +295,11 @@ pub fn save_run(scene: &Scene, dir: &Path, every: u64, end: u64) -> Result<SaveR
     let mut writer = CheckpointWriter::new(dir, key.clone(), every)?;
     let start = nearest(dir, &key, end.saturating_sub(1));
     let (mut sim, mut history, first) = match &start {
-        Some(c) => (c.restore(scene, integrator), c.trail.clone(), c.frame),
+        Some(c) => (
+            c.restore(scene, integrator),
+            c.trail.iter().cloned().collect(),
+            c.frame,
+        ),
         None => (
             Simulation::new(
                 scene.system(),
@@ -296,7 +307,7 @@ pub fn save_run(scene: &Scene, dir: &Path, every: u64, end: u64) -> Result<SaveR
                 integrator,
                 scene.simulation.dt,
             ),
-            Vec::new(),
+            HistoryWriter::new(),
             0,
         ),
     };
@@ -310,7 +321,7 @@ pub fn save_run(scene: &Scene, dir: &Path, every: u64, end: u64) -> Result<SaveR
         if scene.render.trails {
             history.push(Arc::from(sim.state().pos.as_slice()));
         }
-        writer.after_frame(k, &sim, &history)?;
+        writer.after_frame(k, &sim, history.history())?;
     }
     Ok(SaveReport {
         written: writer.written(),
@@ -400,13 +411,15 @@ f1 = [0.3, 0.1]
                 kind,
                 scene.simulation.dt,
             );
-            let mut history: Vec<Arc<[DVec2]>> = Vec::new();
+            let mut history: HistoryWriter<Arc<[DVec2]>> = HistoryWriter::new();
             for k in 0..=10 {
                 straight.advance_to(scene.frame_time(k)).expect("finite");
                 history.push(Arc::from(straight.state().pos.as_slice()));
             }
-            let checkpoint = Checkpoint::capture(10, &straight, &history);
-            assert_eq!(checkpoint.trail.len(), 10);
+            let checkpoint = Checkpoint::capture(10, &straight, history.history());
+            // The trail holds the positions at frames 0 .. 10, not frame 10's own.
+            let first_ten: Vec<Arc<[DVec2]>> = history.history().iter().take(10).cloned().collect();
+            assert_eq!(checkpoint.trail, first_ten);
             let key = RunKey::new(&scene, kind);
             let bytes = checkpoint.to_bytes(&key);
             let read = Checkpoint::from_bytes(&bytes, &key).expect("reads back");
@@ -433,8 +446,10 @@ f1 = [0.3, 0.1]
             IntegratorKind::Euler,
             scene.simulation.dt,
         );
-        let history: Vec<Arc<[DVec2]>> = vec![Arc::from(&[DVec2::ONE, DVec2::X][..]); 3];
-        let bytes = Checkpoint::capture(2, &sim, &history).to_bytes(&key);
+        let history: HistoryWriter<Arc<[DVec2]>> = vec![Arc::from(&[DVec2::ONE, DVec2::X][..]); 3]
+            .into_iter()
+            .collect();
+        let bytes = Checkpoint::capture(2, &sim, history.history()).to_bytes(&key);
         assert_eq!(
             Checkpoint::from_bytes(&bytes, &key).map(|c| c.trail.len()),
             Some(2)

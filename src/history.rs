@@ -18,6 +18,12 @@
 use std::fmt;
 use std::sync::{Arc, OnceLock};
 
+use glam::DVec2;
+
+/// One set of points per frame so far: every body's position, for trails, or every
+/// trace curve's point, for traces.
+pub type PointHistory = History<Arc<[DVec2]>>;
+
 /// The number of segments: segment s holds 2^s entries, so these hold more entries than
 /// a `usize` can count.
 const SEGMENTS: usize = usize::BITS as usize;

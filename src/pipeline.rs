@@ -5,7 +5,9 @@
 //! matter, and each frame is drawn only from its own snapshot, so the bytes are the
 //! same whatever the number of threads. The queue is bounded, so memory does not grow
 //! with the number of frames (trails, when asked for, keep one position per body per
-//! frame, which they need).
+//! frame, which they need). The trail and trace histories are appended to once and
+//! shared by every frame ([`crate::history`]): a job holds an `Arc` and a length, not a
+//! copy of every frame before it.
 
 use std::ops::Range;
 use std::path::PathBuf;
@@ -18,6 +20,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::checkpoint::{Checkpoint, CheckpointOptions, CheckpointWriter, RunKey};
 use crate::error::{Error, Result};
+use crate::history::{HistoryWriter, PointHistory};
 use crate::output::{self, Failure, Manifest, Timings};
 use tiny_skia::Pixmap;
 
@@ -71,9 +74,9 @@ struct Job {
     vel: Vec<DVec2>,
     force: Option<Vec<DVec2>>,
     /// Positions at frames 0 ..= index, when trails are on.
-    trail: Option<Vec<Arc<[DVec2]>>>,
+    trail: Option<PointHistory>,
     /// Trace curves' points at frames 0 ..= index, when the scene has traces.
-    traces: Option<Vec<Arc<[DVec2]>>>,
+    traces: Option<PointHistory>,
     /// The compared runs, when the scene sets `compare`.
     compare: Option<Arc<crate::compare::CompareFrame>>,
 }
@@ -277,14 +280,14 @@ fn render_full(
         drop(receiver);
 
         // The simulation runs only as far as the last frame asked for.
-        let mut history: Vec<Arc<[DVec2]>> = Vec::new();
+        let mut history: HistoryWriter<Arc<[DVec2]>> = HistoryWriter::new();
         let mut traces = TraceRecorder::new(scene);
         let energy_watch = EnergyWatch::new(&sim);
         let mut comparison = crate::compare::Comparison::new(scene);
         let mut first = 0;
         if let Some(c) = &start {
             sim = c.restore(scene, integrator);
-            history = c.trail.clone();
+            history = c.trail.iter().cloned().collect();
             first = c.frame;
         }
         for k in first..range.end {
@@ -312,7 +315,7 @@ fn render_full(
             }
             if let Some(Err(e)) = checkpoints
                 .as_mut()
-                .map(|c| c.after_frame(k, &sim, &history))
+                .map(|c| c.after_frame(k, &sim, history.history()))
             {
                 stop.store(true, Ordering::Relaxed);
                 let mut slot = first_error.lock().unwrap_or_else(|p| p.into_inner());
@@ -338,8 +341,9 @@ fn render_full(
                     Vec::new()
                 },
                 force,
-                trail: trails.then(|| history.clone()),
-                traces: traces.as_ref().map(|r| r.history().to_vec()),
+                // Snapshots of the shared histories: an `Arc` and a length each.
+                trail: trails.then(|| history.history().clone()),
+                traces: traces.as_ref().map(|r| r.history().clone()),
                 compare,
             };
             simulate += started.elapsed();
@@ -461,8 +465,8 @@ fn draw_and_write(
         pos: &job.pos,
         vel: &job.vel,
         force: job.force.as_deref(),
-        trail: job.trail.as_deref(),
-        traces: job.traces.as_deref(),
+        trail: job.trail.as_ref(),
+        traces: job.traces.as_ref(),
         compare: job.compare.as_deref(),
     };
     renderer.draw_damaged(&view, &mut buffers.pixmap, &mut buffers.damage);

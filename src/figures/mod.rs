@@ -12,6 +12,7 @@ use glam::DVec2;
 use tiny_skia::Pixmap;
 
 use crate::error::{Error, Result};
+use crate::history::HistoryWriter;
 use crate::pipeline;
 use crate::render::layers::TraceRecorder;
 use crate::render::{encode_png, ArrowScales, Compression, FrameView, Renderer};
@@ -81,7 +82,7 @@ pub fn render_frame(scene: &Scene, frame: u64) -> Result<Pixmap> {
     let mut force = vec![DVec2::ZERO; scene.bodies.len()];
     sim.net_forces(&mut force);
     let renderer = Renderer::new(scene, ArrowScales::fit(scene, &sim.state().vel, &force));
-    let mut trail: Vec<std::sync::Arc<[DVec2]>> = Vec::new();
+    let mut trail: HistoryWriter<std::sync::Arc<[DVec2]>> = HistoryWriter::new();
     let mut traces = TraceRecorder::new(scene);
     let mut compared = crate::compare::Comparison::new(scene);
     let mut comparison = None;
@@ -109,7 +110,7 @@ pub fn render_frame(scene: &Scene, frame: u64) -> Result<Pixmap> {
         pos: &state.pos,
         vel: &state.vel,
         force: renderer.needs_forces().then_some(force.as_slice()),
-        trail: scene.render.trails.then_some(trail.as_slice()),
+        trail: scene.render.trails.then_some(trail.history()),
         traces: traces.as_ref().map(|t| t.history()),
         compare: comparison.as_ref(),
     };

@@ -1,7 +1,5 @@
 //! The moving layers: trails, bodies, and velocity and force arrows.
 
-use std::sync::Arc;
-
 use glam::DVec2;
 use tiny_skia::{
     Color, FillRule, LineCap, LineJoin, Paint, Path, PathBuilder, PathSegment, Pixmap, Stroke,
@@ -10,6 +8,7 @@ use tiny_skia::{
 
 use super::camera::Camera;
 use super::clip::ClipRect;
+use crate::history::PointHistory;
 use crate::scene::{Body, Rgba, Shape};
 
 /// How a body is drawn, prepared once per render in pixel units.
@@ -238,7 +237,7 @@ impl BodyLook {
         pixmap: &mut Pixmap,
         camera: &Camera,
         clip: &ClipRect,
-        frames: &[Arc<[DVec2]>],
+        frames: &PointHistory,
         body: usize,
     ) {
         if frames.len() < 2 {

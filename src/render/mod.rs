@@ -23,8 +23,6 @@ pub mod sprite;
 pub mod text;
 pub mod ticks;
 
-use std::sync::Arc;
-
 use glam::DVec2;
 use tiny_skia::{Color, Pixmap};
 
@@ -32,6 +30,7 @@ pub use camera::Camera;
 pub use damage::{Damage, PixelRect};
 pub use encode::{encode_png, encode_png_into, Compression, Provenance};
 
+use crate::history::PointHistory;
 use crate::scene::Scene;
 use bodies::{draw_arrow, BodyLook};
 use clip::ClipRect;
@@ -51,11 +50,14 @@ pub struct FrameView<'a> {
     pub vel: &'a [DVec2],
     /// Net forces, when some body shows its force arrow.
     pub force: Option<&'a [DVec2]>,
-    /// The positions at every frame so far (0 ..= index), when trails are on.
-    pub trail: Option<&'a [Arc<[DVec2]>]>,
+    /// The positions at every frame so far (0 ..= index), when trails are on: a
+    /// snapshot of the history the simulation thread appends to, shared with the other
+    /// frames rather than copied into each.
+    pub trail: Option<&'a PointHistory>,
     /// The points of the scene's trace curves at every frame so far (0 ..= index), one
-    /// per trace, when the scene has traces (see [`layers::TraceRecorder`]).
-    pub traces: Option<&'a [Arc<[DVec2]>]>,
+    /// per trace, when the scene has traces (see [`layers::TraceRecorder`]); shared like
+    /// `trail`.
+    pub traces: Option<&'a PointHistory>,
     /// The compared runs at this frame, when the scene sets `compare`.
     pub compare: Option<&'a crate::compare::CompareFrame>,
 }

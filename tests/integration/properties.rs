@@ -122,7 +122,7 @@ fn render_all(text: &str) -> Vec<Vec<u8>> {
     let mut force = vec![DVec2::ZERO; scene.bodies.len()];
     sim.net_forces(&mut force);
     let renderer = Renderer::new(&scene, ArrowScales::fit(&scene, &sim.state().vel, &force));
-    let mut trail = Vec::new();
+    let mut trail = physframes::history::HistoryWriter::new();
     let mut frames = Vec::new();
     for k in 0..scene.render.frame_count {
         if sim.advance_to(scene.frame_time(k)).is_err() {
@@ -136,7 +136,7 @@ fn render_all(text: &str) -> Vec<Vec<u8>> {
             pos: &sim.state().pos,
             vel: &sim.state().vel,
             force: Some(&force),
-            trail: Some(&trail),
+            trail: Some(trail.history()),
             traces: None,
             compare: None,
         };

@@ -8,6 +8,7 @@ use tiny_skia::{Color, Pixmap};
 
 use super::super::plot::{Chart, LineStyle, MarkerShape, MarkerStyle};
 use super::{color, dash};
+use crate::history::{HistoryWriter, PointHistory};
 use crate::scene::layers::{Curve, CurveKind, BODY_QUANTITIES, MAX_SOLUTION_STEPS};
 use crate::scene::Scene;
 
@@ -93,7 +94,7 @@ pub fn draw_trace(
     chart: &Chart,
     pixmap: &mut Pixmap,
     curve: &Curve,
-    history: &[Arc<[DVec2]>],
+    history: &PointHistory,
     index: usize,
     scale: f32,
 ) {
@@ -115,12 +116,13 @@ fn line_style(curve: &Curve, scale: f32) -> LineStyle {
 }
 
 /// Evaluates a scene's trace curves at every frame, on the simulation's thread, and
-/// keeps one point per trace per frame so far.
-#[derive(Clone, Debug)]
+/// keeps one point per trace per frame so far. It is the one writer of its history, so
+/// it is not `Clone`.
+#[derive(Debug)]
 pub struct TraceRecorder {
     /// The traces' x and y expressions with their slot values.
     traces: Vec<(Curve, Vec<f64>)>,
-    history: Vec<Arc<[DVec2]>>,
+    history: HistoryWriter<Arc<[DVec2]>>,
 }
 
 impl TraceRecorder {
@@ -135,7 +137,7 @@ impl TraceRecorder {
             .collect();
         (!traces.is_empty()).then_some(TraceRecorder {
             traces,
-            history: Vec::new(),
+            history: HistoryWriter::new(),
         })
     }
 
@@ -164,8 +166,9 @@ impl TraceRecorder {
         self.history.push(Arc::from(points));
     }
 
-    /// The points of every frame recorded so far.
-    pub fn history(&self) -> &[Arc<[DVec2]>] {
-        &self.history
+    /// The points of every frame recorded so far; a clone of it is a frame's snapshot,
+    /// which costs the same at every frame.
+    pub fn history(&self) -> &PointHistory {
+        self.history.history()
     }
 }

@@ -14,8 +14,6 @@ mod curves;
 mod fields;
 mod hud;
 
-use std::sync::Arc;
-
 use glam::DVec2;
 use tiny_skia::{Color, IntRect, Pixmap};
 
@@ -24,6 +22,7 @@ pub use curves::{solution_points, TraceRecorder};
 use super::camera::Camera;
 use super::plot::{Axis, Chart, ChartSpec, Corner, Dash, LegendEntry, LineStyle, Theme};
 use super::FrameView;
+use crate::history::PointHistory;
 use crate::scene::layers::{Aspect, CurveKind, LegendCorner, LineDash};
 use crate::scene::{Rgba, Scene, View};
 
@@ -148,7 +147,7 @@ impl Overlay {
         pixmap: &mut Pixmap,
         t: f64,
         dynamic: bool,
-        traces: Option<&[Arc<[DVec2]>]>,
+        traces: Option<&PointHistory>,
     ) {
         let layers = &self.layers;
         for field in &layers.fields {
