@@ -3,8 +3,9 @@
 //! A render holds, per drawing thread, the frame's pixmap (width × height × 4 bytes),
 //! an unpremultiplied copy when the frame is not opaque, and the encoded PNG, which is
 //! at most about as large: three frame buffers. Add the static layer every frame
-//! starts from, and, with trails, the positions of every body at every frame, shared by
-//! the frames queued between the simulation and the threads. When that exceeds the
+//! starts from, and, with trails, the positions of every body at every frame, held once
+//! and shared by the frames queued between the simulation and the threads (each holds a
+//! pointer and a length, whatever its index). When that exceeds the
 //! memory available, physframes refuses to start and says what would fit.
 //!
 //! The memory available is `MemAvailable` from `/proc/meminfo` on Linux, lowered to a
@@ -34,17 +35,17 @@ impl Estimate {
         let r = &scene.render;
         let frame = u64::from(r.width) * u64::from(r.height) * 4;
         // Each frame's positions (16 bytes a body, plus the shared pointer's header),
-        // and a list of pointers to them in every queued job.
+        // and the history's slot for the pointer (24 bytes, in segments of doubling size
+        // that may be half empty). Queued jobs share the history, so it is counted once.
         let trails = if r.trails {
-            r.frame_count * (16 * scene.bodies.len() as u64 + 32)
+            r.frame_count * (16 * scene.bodies.len() as u64 + 16 + 2 * 24)
         } else {
             0
         };
         Estimate {
             frame,
             fixed: frame + trails,
-            per_thread: BUFFERS_PER_THREAD * frame
-                + if r.trails { 3 * 16 * r.frame_count } else { 0 },
+            per_thread: BUFFERS_PER_THREAD * frame,
         }
     }
 
@@ -184,6 +185,23 @@ mod tests {
         assert!(err.to_string().contains("make the image smaller"), "{err}");
         // Where the memory is unknown, the render goes ahead.
         assert_eq!(plan_threads(&s, 4, None).ok(), Some(4));
+    }
+
+    #[test]
+    fn trails_are_counted_once_however_many_threads_draw() {
+        let text = "[simulation]\nduration = 100.0\n[render]\nwidth = 64\nheight = 48\nfps = 30\ntrails = true\nview = { min = [0.0, 0.0], max = [1.0, 1.0] }\n[[body]]\nname = \"a\"\nmass = 1.0\n[[body]]\nname = \"b\"\nmass = 1.0\n";
+        let s = parse(std::path::Path::new("m.toml"), text).expect("a valid scene");
+        let frames = s.render.frame_count;
+        assert!(frames > 3000, "{frames} frames");
+        let e = Estimate::of(&s);
+        // The frames share one history: a thread adds its buffers and nothing that grows
+        // with the number of frames.
+        assert_eq!(e.per_thread, 3 * 64 * 48 * 4);
+        // Two bodies' positions, the pointer's header and its slot for every frame; the
+        // slot is no larger than the estimate says.
+        let slot = std::mem::size_of::<std::sync::OnceLock<std::sync::Arc<[glam::DVec2]>>>();
+        assert!(slot <= 24, "a slot takes {slot} bytes");
+        assert_eq!(e.fixed, 64 * 48 * 4 + frames * (2 * 16 + 16 + 48));
     }
 
     #[test]
