@@ -10,6 +10,7 @@
 //! buffers inside the integrators, and `System::inv_mass`. Cold data (names, colours,
 //! shapes) stays in the scene.
 
+pub mod baseline;
 pub mod exact;
 pub mod forces;
 pub mod integrators;
@@ -17,6 +18,7 @@ pub mod scalar_ode;
 mod simulation;
 pub mod system;
 
+pub use baseline::HandWrittenEuler;
 pub use forces::{Anchor, ForceSpec, Selection};
 pub use integrators::{Integrator, IntegratorKind, Stepper, Tolerances};
 pub use scalar_ode::ScalarMethod;

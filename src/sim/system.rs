@@ -135,6 +135,12 @@ impl System {
         &self.mass
     }
 
+    /// Returns the mass every body has when all masses are equal (to the bit), and
+    /// `None` when they differ or there is no body.
+    pub fn uniform_mass(&self) -> Option<f64> {
+        self.uniform_mass.map(|(m, _)| m)
+    }
+
     /// Returns the forces acting in this system.
     pub fn force_set(&self) -> &ForceSet {
         &self.forces

@@ -304,6 +304,27 @@ impl ForceSet {
             && self.central.is_empty())
     }
 
+    /// Returns the summed gravitational acceleration g = Σ g_i and drag coefficient
+    /// k = Σ k_i when every force is uniform gravity or linear drag acting on every one
+    /// of the `n` bodies, and `None` when some other force acts or a force acts on only
+    /// some bodies. Each sum starts from zero, as the net force does.
+    pub fn gravity_and_linear_drag(&self) -> Option<(DVec2, f64)> {
+        let everyone = |s: &Selection| s.as_range(self.n) == Some(0..self.n);
+        let only_these = self.quadratic_drag.is_empty()
+            && self.time_varying.is_empty()
+            && self.springs.is_empty()
+            && self.central.is_empty();
+        if !only_these
+            || !self.gravity.iter().all(|f| everyone(&f.bodies))
+            || !self.drag.iter().all(|f| everyone(&f.bodies))
+        {
+            return None;
+        }
+        let g = self.gravity.iter().fold(DVec2::ZERO, |sum, f| sum + f.g);
+        let k = self.drag.iter().fold(0.0, |sum, f| sum + f.k);
+        Some((g, k))
+    }
+
     /// Returns true when some spring couples bodies (or a body to a point). Every other
     /// force acts on each body alone, so without springs each body's acceleration
     /// depends only on its own state and the time.
