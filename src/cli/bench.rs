@@ -7,7 +7,9 @@
 //! median run is reported, with the time per frame of each stage as the manifest
 //! records it. `--simulate-only` times the simulation alone, stepping the
 //! scene's `Simulation` from t = 0 to its last frame with nothing drawn or written, and
-//! reports nanoseconds per body-step.
+//! reports nanoseconds per body-step; for a scene of explicit Euler under gravity and
+//! linear drag on equal masses, it times the hand-written loop of the same physics
+//! ([`HandWrittenEuler`]) in turn with it, and reports the ratio of the two.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -19,7 +21,7 @@ use crate::error::{Error, Result};
 use crate::pipeline::{self, RenderOptions};
 use crate::render::Compression;
 use crate::scene::Scene;
-use crate::sim::Simulation;
+use crate::sim::{HandWrittenEuler, Simulation};
 
 #[derive(Debug, Args)]
 pub struct BenchArgs {
@@ -38,7 +40,9 @@ pub struct BenchArgs {
     /// Render only these frames: A..B (B excluded), A..=B, A.., ..B or A.
     #[arg(long, value_name = "RANGE")]
     frames: Option<String>,
-    /// Time the simulation alone: nothing is drawn, encoded or written.
+    /// Time the simulation alone: nothing is drawn, encoded or written. For explicit
+    /// Euler under gravity and linear drag on bodies of equal mass, also time a
+    /// hand-written loop of the same physics, in turn with it, and print the ratio.
     #[arg(long)]
     simulate_only: bool,
     /// Render each run into a temporary folder inside DIR instead of the system's, and
@@ -298,38 +302,85 @@ fn frame_bytes(dir: &Path) -> Result<u64> {
 
 /// Steps a scene's simulation to its last frame `repeat` times on a pool of `threads`
 /// threads and formats the median time per body-step.
+///
+/// When the scene is one that [`HandWrittenEuler`] reproduces (explicit Euler, gravity
+/// and linear drag on every body, equal masses), the hand-written loop is run from the
+/// same initial state in turn with the pipeline, `repeat` times each, which one first
+/// alternating between rounds so that a change in the machine's speed falls on both; a
+/// second line gives its median and the ratio of the two medians.
 fn simulate_line(scene: &Scene, threads: usize, repeat: usize) -> Result<String> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .map_err(|e| Error::Runtime(format!("cannot start {threads} threads: {e}")))?;
     let steps = scene.total_steps();
-    let mut seconds = Vec::with_capacity(repeat);
-    for _ in 0..repeat {
+    let initial = scene.initial_state();
+    let mut hand = HandWrittenEuler::new(
+        &scene.system(),
+        scene.simulation.integrator,
+        scene.simulation.dt,
+        &initial,
+    );
+    let time_pipeline = || -> Result<f64> {
         let mut sim = Simulation::new(
             scene.system(),
-            scene.initial_state(),
+            initial.clone(),
             scene.simulation.integrator,
             scene.simulation.dt,
         );
         let started = Instant::now();
         let result = pool.install(|| sim.run_steps(steps));
-        seconds.push(started.elapsed().as_secs_f64());
-        if let Err(b) = result {
-            return Err(Error::BlowUp(pipeline::blow_up_message(scene, &b)));
+        let elapsed = started.elapsed().as_secs_f64();
+        result.map_err(|b| Error::BlowUp(pipeline::blow_up_message(scene, &b)))?;
+        Ok(elapsed)
+    };
+    let time_hand = |hand: &mut HandWrittenEuler| {
+        hand.set_state(&initial);
+        let started = Instant::now();
+        pool.install(|| hand.run_steps(steps));
+        started.elapsed().as_secs_f64()
+    };
+    let mut seconds = Vec::with_capacity(repeat);
+    let mut hand_seconds = Vec::with_capacity(repeat);
+    for round in 0..repeat {
+        match &mut hand {
+            Some(hand) if round % 2 == 1 => {
+                hand_seconds.push(time_hand(hand));
+                seconds.push(time_pipeline()?);
+            }
+            Some(hand) => {
+                seconds.push(time_pipeline()?);
+                hand_seconds.push(time_hand(hand));
+            }
+            None => seconds.push(time_pipeline()?),
         }
     }
-    seconds.sort_by(f64::total_cmp);
-    let median = seconds[seconds.len() / 2];
+    let median = |mut s: Vec<f64>| {
+        s.sort_by(f64::total_cmp);
+        s[s.len() / 2]
+    };
     let body_steps = (steps as f64 * scene.bodies.len() as f64).max(1.0);
-    Ok(format!(
-        "{:<28} {:>9} {:>7} {:>12.4} {:>16.3}\n",
-        scene.name,
-        scene.bodies.len(),
-        steps,
-        median,
-        median * 1e9 / body_steps
-    ))
+    let row = |name: &str, seconds: f64| {
+        format!(
+            "{:<28} {:>9} {:>7} {:>12.4} {:>16.3}",
+            name,
+            scene.bodies.len(),
+            steps,
+            seconds,
+            seconds * 1e9 / body_steps
+        )
+    };
+    let pipeline_median = median(seconds);
+    let mut out = row(&scene.name, pipeline_median) + "\n";
+    if hand.is_some() {
+        let hand_median = median(hand_seconds);
+        out.push_str(&row("  hand-written loop", hand_median));
+        out.push_str(&format!(
+            "   pipeline/hand-written {:.2}\n",
+            pipeline_median / hand_median
+        ));
+    }
+    Ok(out)
 }
 
 /// Returns the one-minute load average, or "unknown": a busy machine gives slower,

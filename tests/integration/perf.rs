@@ -538,6 +538,29 @@ fn bench_prints_frames_per_second_and_nanoseconds_per_body_step() {
     let fields: Vec<&str> = row.split_whitespace().collect();
     assert_eq!(fields[1..3], ["3", "500"], "{row}");
     assert!(text.contains("ns/body-step"), "{text}");
+    // Explicit Euler under drag on bodies of equal mass: the hand-written loop of the
+    // same physics is timed too, with the ratio of the pipeline's time to its.
+    let hand = text
+        .lines()
+        .find(|l| l.trim_start().starts_with("hand-written loop"))
+        .unwrap_or_else(|| panic!("no hand-written row in:\n{text}"));
+    let fields: Vec<&str> = hand.split_whitespace().collect();
+    assert_eq!(fields[2..4], ["3", "500"], "{hand}");
+    assert_eq!(fields[fields.len() - 2], "pipeline/hand-written", "{hand}");
+    let ratio = fields[fields.len() - 1].parse::<f64>();
+    assert!(ratio.is_ok_and(|r| r > 0.0), "{hand}");
+    // Springs are not what the hand-written loop computes: no such row.
+    let out = sandbox.run(&[
+        "bench",
+        &example("spring.toml"),
+        "--repeat",
+        "1",
+        "--simulate-only",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(text.lines().any(|l| l.starts_with("spring ")), "{text}");
+    assert!(!text.contains("hand-written"), "{text}");
     // It writes nothing where it runs.
     assert!(sandbox.list(".").is_empty(), "{:?}", sandbox.list("."));
 }
