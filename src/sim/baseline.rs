@@ -54,6 +54,7 @@ impl HandWrittenEuler {
         let (g, k) = system.force_set().gravity_and_linear_drag()?;
         let mut baseline = HandWrittenEuler {
             g,
+            // The drag's share of a = g - (k/m)·v, folded once.
             k_over_m: k / m,
             h,
             x: Vec::new(),

@@ -320,7 +320,9 @@ impl ForceSet {
         {
             return None;
         }
+        // g = Σ g_i, in file order.
         let g = self.gravity.iter().fold(DVec2::ZERO, |sum, f| sum + f.g);
+        // k = Σ k_i, in file order.
         let k = self.drag.iter().fold(0.0, |sum, f| sum + f.k);
         Some((g, k))
     }
