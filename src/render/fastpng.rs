@@ -154,8 +154,9 @@ impl StaticPng {
         let codes = codes()?;
         let (width, height) = (layer.width(), layer.height());
         let stride = 4 * width as usize;
-        // The prefix sums are 32-bit and tile indices 16-bit: rows of up to 2^20 bytes
-        // (262,144 pixels) fit both; wider frames go to the `png` crate.
+        // The prefix sums Σ f and the bit offsets within a row's stream are 32-bit:
+        // rows of up to 2^20 bytes (262,144 pixels) fit both; wider frames go to the
+        // `png` crate.
         if stride > 1 << 20 {
             return None;
         }
