@@ -816,27 +816,11 @@ impl<'c> Deflate<'c> {
         }
     }
 
-    /// Appends `count` bits stored least significant first from the start of `bytes`,
-    /// which must hold eight bytes past them.
-    fn put_pool_bits(&mut self, bytes: &[u8], count: usize) {
-        let words = count / 64;
-        for k in 0..words {
-            let word = u64::from_le_bytes(bytes[8 * k..8 * k + 8].try_into().unwrap_or([0; 8]));
-            self.put(word, 64);
-        }
-        let rest = (count % 64) as u32;
-        if rest > 0 {
-            let word =
-                u64::from_le_bytes(bytes[8 * words..8 * words + 8].try_into().unwrap_or([0; 8]));
-            self.put(word & ((1u64 << rest) - 1), rest);
-        }
-    }
-
     /// Appends `count` bits of a byte string, least significant bit of each byte first.
     fn put_stored_bits(&mut self, bytes: &[u8], count: usize) {
         let mut padded = bytes.to_vec();
         padded.extend_from_slice(&[0; 8]);
-        self.put_pool_bits(&padded, count);
+        self.put_bit_range(&padded, 0, count);
     }
 
     /// Compresses bytes: zero bytes lengthen the run, others are literals. Eight bytes
