@@ -57,7 +57,7 @@ impl<const N: usize> Oscillators<N> {
             .unzip();
         Oscillators {
             anchors,
-            initial: State { t: 0.0, pos, vel },
+            initial: State::new(0.0, pos, vel),
         }
     }
 
@@ -69,6 +69,8 @@ impl<const N: usize> Oscillators<N> {
                 stiffness: OMEGA2,
                 rest_length: 0.0,
                 damping: 0.0,
+                a_at: None,
+                b_at: None,
             })
             .collect();
         System::new(vec![1.0; N], &springs)

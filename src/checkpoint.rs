@@ -147,11 +147,7 @@ impl Checkpoint {
 
     /// Rebuilds the simulation of `scene` at this checkpoint.
     pub fn restore(&self, scene: &Scene, integrator: IntegratorKind) -> Simulation {
-        let state = State {
-            t: self.t,
-            pos: self.pos.clone(),
-            vel: self.vel.clone(),
-        };
+        let state = State::new(self.t, self.pos.clone(), self.vel.clone());
         Simulation::restore(
             scene.system(),
             state,

@@ -510,8 +510,8 @@ impl EnergyWatch {
     pub(crate) fn new(sim: &crate::sim::Simulation) -> Self {
         let s = sim.state();
         let system = sim.system();
-        let start = system.mechanical_energy(&s.pos, &s.vel).and_then(|e0| {
-            let ke = system.kinetic_energy(&s.vel);
+        let start = system.mechanical_energy(s).and_then(|e0| {
+            let ke = system.kinetic_energy(s);
             let scale = ke + (e0 - ke).abs();
             (scale > 0.0 && scale.is_finite()).then_some((e0, scale))
         });
@@ -526,17 +526,14 @@ impl EnergyWatch {
         };
         let s = sim.state();
         let system = sim.system();
-        let Some(e) = system.mechanical_energy(&s.pos, &s.vel) else {
+        let Some(e) = system.mechanical_energy(s) else {
             return Ok(());
         };
         if e <= e0 + (ENERGY_GROWTH_LIMIT - 1.0) * scale {
             return Ok(());
         }
-        let body = s
-            .vel
-            .iter()
-            .zip(system.masses())
-            .map(|(v, m)| m * v.length_squared())
+        let body = (0..s.len())
+            .map(|i| system.kinetic_energy_of(s, i))
             .enumerate()
             .max_by(|a, b| a.1.total_cmp(&b.1))
             .map_or(0, |(i, _)| i);

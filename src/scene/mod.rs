@@ -249,11 +249,11 @@ impl Scene {
 
     /// Returns the state at t = 0.
     pub fn initial_state(&self) -> State {
-        State {
-            t: 0.0,
-            pos: self.bodies.iter().map(|b| b.position).collect(),
-            vel: self.bodies.iter().map(|b| b.velocity).collect(),
-        }
+        State::new(
+            0.0,
+            self.bodies.iter().map(|b| b.position).collect(),
+            self.bodies.iter().map(|b| b.velocity).collect(),
+        )
     }
 
     /// Returns the bodies' names, indexed like the simulation's arrays.

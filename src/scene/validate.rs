@@ -289,11 +289,11 @@ impl Validator {
             return;
         }
         let masses: Vec<f64> = bodies.iter().map(|b| b.mass).collect();
-        let initial = crate::sim::State {
-            t: 0.0,
-            pos: bodies.iter().map(|b| b.position).collect(),
-            vel: bodies.iter().map(|b| b.velocity).collect(),
-        };
+        let initial = crate::sim::State::new(
+            0.0,
+            bodies.iter().map(|b| b.position).collect(),
+            bodies.iter().map(|b| b.velocity).collect(),
+        );
         if crate::sim::exact::ExactSolution::new(&masses, forces, &initial).is_some() {
             return;
         }
@@ -981,6 +981,7 @@ impl Validator {
                     f0: f0?,
                     f1: f1?,
                     bodies: bodies?,
+                    at: None,
                 }
             }
             "spring" => self.spring(raw, names)?,
@@ -1059,6 +1060,8 @@ impl Validator {
             stiffness: stiffness?,
             rest_length: rest_length?,
             damping: damping?,
+            a_at: None,
+            b_at: None,
         })
     }
 

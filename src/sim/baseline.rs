@@ -167,7 +167,7 @@ mod tests {
                 )
             })
             .unzip();
-        State { t: 0.0, pos, vel }
+        State::new(0.0, pos, vel)
     }
 
     #[test]
@@ -279,6 +279,8 @@ mod tests {
             stiffness: 1.0,
             rest_length: 0.0,
             damping: 0.0,
+            a_at: None,
+            b_at: None,
         };
         assert!(!fits(vec![2.0; n], &[gravity(g), spring], euler));
     }

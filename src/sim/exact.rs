@@ -49,7 +49,7 @@ impl ExactSolution {
                 ForceSpec::Drag { k, bodies } => {
                     each(bodies, &mut |i| laws[i].lambda += k / masses[i])
                 }
-                ForceSpec::TimeVarying { f0, f1, bodies } => each(bodies, &mut |i| {
+                ForceSpec::TimeVarying { f0, f1, bodies, .. } => each(bodies, &mut |i| {
                     laws[i].a += *f0 / masses[i];
                     laws[i].b += *f1 / masses[i];
                 }),
@@ -59,6 +59,8 @@ impl ExactSolution {
                     stiffness,
                     rest_length,
                     damping,
+                    a_at: None,
+                    b_at: None,
                 } if *rest_length == 0.0 && *damping == 0.0 => {
                     let i = *a as usize;
                     laws[i].omega_sq += stiffness / masses[i];
@@ -88,7 +90,7 @@ impl ExactSolution {
             .zip(s0.pos.iter().zip(&s0.vel))
             .map(|(law, (r0, v0))| law.at(dt, *r0, *v0))
             .unzip();
-        State { t, pos, vel }
+        State::new(t, pos, vel)
     }
 }
 
@@ -211,17 +213,15 @@ mod tests {
 
     #[test]
     fn scenes_with_coupling_or_nonlinear_forces_have_none() {
-        let s = State {
-            t: 0.0,
-            pos: vec![DVec2::ZERO; 2],
-            vel: vec![DVec2::ZERO; 2],
-        };
+        let s = State::new(0.0, vec![DVec2::ZERO; 2], vec![DVec2::ZERO; 2]);
         let coupled = [ForceSpec::Spring {
             a: 0,
             b: Anchor::Body(1),
             stiffness: 1.0,
             rest_length: 0.0,
             damping: 0.0,
+            a_at: None,
+            b_at: None,
         }];
         assert!(ExactSolution::new(&[1.0, 1.0], &coupled, &s).is_none());
         let quadratic = [ForceSpec::QuadraticDrag {

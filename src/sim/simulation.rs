@@ -5,6 +5,7 @@ use std::fmt;
 use glam::DVec2;
 
 use super::integrators::{StepController, Tolerances};
+use super::system::Coords;
 use super::{IntegratorKind, State, Stepper, System};
 
 /// The most steps an adaptive method may take in one call of `advance_to` (one frame),
@@ -24,7 +25,8 @@ pub struct BlowUp {
     pub step: u64,
     /// The simulated time at the end of that step.
     pub t: f64,
-    /// The quantity that stopped being finite: "position" or "velocity".
+    /// The quantity that stopped being finite: "position", "velocity", "angle" or
+    /// "angular velocity".
     pub quantity: &'static str,
 }
 
@@ -94,10 +96,18 @@ impl Adaptive {
 impl Simulation {
     /// Creates a simulation that starts from `initial` and steps by `h` (for an adaptive
     /// method: by at most `h`, with the default [`Tolerances`]).
-    pub fn new(system: System, initial: State, kind: IntegratorKind, h: f64) -> Self {
+    ///
+    /// When some body of `initial` spins already, the system is made to spin (see
+    /// [`System::spins`]), so that its angle advances even when nothing acts on it.
+    pub fn new(mut system: System, initial: State, kind: IntegratorKind, h: f64) -> Self {
         debug_assert_eq!(system.len(), initial.len());
+        debug_assert_eq!(initial.angle.len(), initial.len());
+        debug_assert_eq!(initial.omega.len(), initial.len());
         debug_assert!(h > 0.0 && h.is_finite());
-        let stepper = Stepper::new(kind, system.len());
+        if !system.spins() && initial.omega.iter().any(|w| *w != 0.0) {
+            system.start_spinning();
+        }
+        let stepper = Stepper::new(kind, &system);
         let t0 = initial.t;
         let adaptive = kind
             .is_adaptive()
@@ -140,6 +150,8 @@ impl Simulation {
         self.state.t = initial.t;
         self.state.pos.copy_from_slice(&initial.pos);
         self.state.vel.copy_from_slice(&initial.vel);
+        self.state.angle.copy_from_slice(&initial.angle);
+        self.state.omega.copy_from_slice(&initial.omega);
         self.t0 = initial.t;
         self.steps = 0;
         self.stepper.reset();
@@ -201,10 +213,17 @@ impl Simulation {
         self.stepper.kind()
     }
 
-    /// Writes the net force on every body at the current state into `force`.
+    /// Writes the net force on every body at the current state into `force`, wherever
+    /// on the body each force acts.
     pub fn net_forces(&self, force: &mut [DVec2]) {
         let s = &self.state;
-        self.system.net_forces(s.t, &s.pos, &s.vel, force);
+        if self.system.spins() {
+            let mut torque = vec![0.0; s.len()];
+            self.system
+                .net_forces_and_torques(s.t, Coords::of(s), force, &mut torque);
+        } else {
+            self.system.net_forces(s.t, &s.pos, &s.vel, force);
+        }
     }
 
     /// Takes one step (for an adaptive method: one accepted step of the size the
@@ -213,14 +232,7 @@ impl Simulation {
         if self.adaptive.is_some() {
             return self.adaptive_step(f64::INFINITY);
         }
-        let t = self.state.t;
-        self.stepper.step(
-            &self.system,
-            t,
-            self.h,
-            &mut self.state.pos,
-            &mut self.state.vel,
-        );
+        self.stepper.step(&self.system, self.h, &mut self.state);
         self.steps += 1;
         // t_n = t0 + n·h, computed rather than summed.
         self.state.t = self.t0 + self.steps as f64 * self.h;
@@ -298,14 +310,9 @@ impl Simulation {
         let t = state.t;
         let mut h = match adaptive.h_next {
             Some(h) => h,
-            None => self.stepper.initial_step(
-                &self.system,
-                t,
-                &state.pos,
-                &state.vel,
-                adaptive.tol,
-                self.h,
-            ),
+            None => self
+                .stepper
+                .initial_step(&self.system, state, adaptive.tol, self.h),
         };
         // Never above h_max, so that the clamp below has its bounds in order.
         let h_min = (16.0 * f64::EPSILON * t.abs().max(self.h)).min(self.h);
@@ -320,13 +327,12 @@ impl Simulation {
             }
             let err = self
                 .stepper
-                .attempt(&self.system, t, h, &state.pos, &state.vel, adaptive.tol)
+                .attempt(&self.system, h, state, adaptive.tol)
                 .unwrap_or(0.0);
             let (accepted, h_new) = adaptive.controller.decide(err, h);
             if accepted || h <= h_min {
                 let t_new = if lands { t_limit } else { t + h };
-                let finite = self.stepper.accept(t_new, &mut state.pos, &mut state.vel);
-                state.t = t_new;
+                let finite = self.stepper.accept(t_new, state);
                 self.steps += 1;
                 adaptive.h_next = Some(if lands { h_new.max(proposed) } else { h_new });
                 // A candidate known to be finite needs no check, and no record for the
@@ -349,8 +355,11 @@ impl Simulation {
         let s = &self.state;
         // A step that checked what it wrote leaves a record; otherwise one fast pass
         // over the flat arrays answers the common case. The slow search runs only after
-        // a blow-up.
-        if self.system.take_finite_step(&s.pos) || s.is_finite() {
+        // a blow-up. Angles change only in a system that spins.
+        let spins = self.system.spins();
+        if (self.system.take_finite_step(&s.pos) || s.is_finite())
+            && (!spins || s.angles_are_finite())
+        {
             return Ok(());
         }
         for (i, (p, v)) in s.pos.iter().zip(&s.vel).enumerate() {
@@ -358,6 +367,10 @@ impl Simulation {
                 "position"
             } else if !v.is_finite() {
                 "velocity"
+            } else if spins && !s.angle[i].is_finite() {
+                "angle"
+            } else if spins && !s.omega[i].is_finite() {
+                "angular velocity"
             } else {
                 continue;
             };

@@ -6,6 +6,7 @@ use glam::DVec2;
 use rayon::prelude::*;
 
 use super::forces::{ForceSet, ForceSpec, Masses, LANES};
+use super::rigid::perp_dot;
 
 /// Bodies per chunk of the per-body loops: 512 bodies keep a chunk's positions,
 /// velocities and accelerations (8 KiB each) in the L1 cache between computing the
@@ -21,8 +22,9 @@ pub const BLOCK: usize = 32 * CHUNK;
 /// so splitting gives the same bits for any number of threads.
 pub const PARALLEL_MIN: usize = 4 * BLOCK;
 
-/// The state of every body at one instant: the article's r and v (Equations 1 and 2),
-/// for each body's centre of mass, in flat arrays indexed by body.
+/// The state of every body at one instant: the article's r and v (Equations 1 and 2)
+/// for each body's centre of mass, and its orientation θ and angular velocity ω, in flat
+/// arrays indexed by body.
 #[derive(Clone, Debug, PartialEq)]
 pub struct State {
     /// Simulated time t.
@@ -31,9 +33,73 @@ pub struct State {
     pub pos: Vec<DVec2>,
     /// Centre-of-mass velocities v = dr/dt, one per body.
     pub vel: Vec<DVec2>,
+    /// Orientations θ in radians, counter-clockwise positive, one per body.
+    pub angle: Vec<f64>,
+    /// Angular velocities ω = dθ/dt, one per body.
+    pub omega: Vec<f64>,
+}
+
+/// The coordinates of every body at one instant, borrowed: what a force evaluation
+/// reads. Stages of an integrator are states that live in its own buffers, so they are
+/// passed as views rather than as [`State`]s.
+#[derive(Clone, Copy, Debug)]
+pub struct Coords<'a> {
+    /// Centre-of-mass positions r.
+    pub pos: &'a [DVec2],
+    /// Centre-of-mass velocities v.
+    pub vel: &'a [DVec2],
+    /// Orientations θ; read only when the system spins (see [`System::spins`]).
+    pub angle: &'a [f64],
+    /// Angular velocities ω; read only when the system spins.
+    pub omega: &'a [f64],
+}
+
+impl<'a> Coords<'a> {
+    /// Returns the coordinates of a state.
+    pub fn of(state: &'a State) -> Self {
+        Coords {
+            pos: &state.pos,
+            vel: &state.vel,
+            angle: &state.angle,
+            omega: &state.omega,
+        }
+    }
+
+    /// Returns positions and velocities without angles, for a system that does not
+    /// spin (which reads none).
+    pub fn linear(pos: &'a [DVec2], vel: &'a [DVec2]) -> Self {
+        Coords {
+            pos,
+            vel,
+            angle: &[],
+            omega: &[],
+        }
+    }
 }
 
 impl State {
+    /// Returns a state of bodies at the given positions and velocities, none turned
+    /// (θ = 0) or spinning (ω = 0).
+    pub fn new(t: f64, pos: Vec<DVec2>, vel: Vec<DVec2>) -> Self {
+        debug_assert_eq!(pos.len(), vel.len());
+        let n = pos.len();
+        State {
+            t,
+            pos,
+            vel,
+            angle: vec![0.0; n],
+            omega: vec![0.0; n],
+        }
+    }
+
+    /// Returns true when every angle and angular velocity is finite.
+    pub fn angles_are_finite(&self) -> bool {
+        self.angle
+            .iter()
+            .zip(&self.omega)
+            .all(|(a, w)| a.is_finite() && w.is_finite())
+    }
+
     /// Returns true when every position and velocity is finite. One pass over the flat
     /// arrays, split across threads for many bodies.
     pub fn is_finite(&self) -> bool {
@@ -77,6 +143,24 @@ pub struct System {
     /// after the step takes it instead of reading the whole state again
     /// ([`System::take_finite_step`]).
     finite_step: AtomicUsize,
+    /// The bodies' moments of inertia and centres of mass in body coordinates, for a
+    /// system built with [`System::rigid`].
+    rigid: Option<Rigid>,
+    /// True when the angles and angular velocities are advanced: something can turn a
+    /// body, or some body spins already. Otherwise every ω is zero and stays zero, every
+    /// θ keeps its value, and the steps do no angular work at all.
+    spins: bool,
+}
+
+/// What the rotation of rigid bodies needs beyond their masses.
+#[derive(Clone, Debug)]
+struct Rigid {
+    /// Moments of inertia I about the centres of mass.
+    inertia: Vec<f64>,
+    /// 1/I.
+    inv_inertia: Vec<f64>,
+    /// Each body's centre of mass c in its body coordinates.
+    centre: Vec<DVec2>,
 }
 
 impl Clone for System {
@@ -90,25 +174,60 @@ impl Clone for System {
             per_body: self.per_body,
             // A record belongs to the state its step wrote, not to a copy.
             finite_step: AtomicUsize::new(0),
+            rigid: self.rigid.clone(),
+            spins: self.spins,
         }
     }
 }
 
 impl System {
-    /// Builds a system from the bodies' masses and the validated force specifications.
+    /// Builds a system of bodies that never turn from their masses and the validated
+    /// force specifications, none of which may exert a torque (use [`System::rigid`]).
     ///
     /// Every mass must be finite and positive (the scene validator guarantees it), and
     /// every body index named by a force must be below `mass.len()`.
     pub fn new(mass: Vec<f64>, forces: &[ForceSpec]) -> Self {
+        let system = Self::build(mass, forces, None);
+        debug_assert!(!system.forces.has_torques(&vec![DVec2::ZERO; system.len()]));
+        system
+    }
+
+    /// Builds a system of rigid bodies from their masses, their moments of inertia
+    /// about their centres of mass, their centres of mass in body coordinates (the
+    /// coordinates in which forces' `at` points and springs' anchors are given), and
+    /// the validated force specifications.
+    ///
+    /// Every mass and moment of inertia must be finite and positive.
+    pub fn rigid(
+        mass: Vec<f64>,
+        inertia: Vec<f64>,
+        centre: Vec<DVec2>,
+        forces: &[ForceSpec],
+    ) -> Self {
+        debug_assert!(inertia.iter().all(|i| i.is_finite() && *i > 0.0));
+        debug_assert!(inertia.len() == mass.len() && centre.len() == mass.len());
+        let inv_inertia = inertia.iter().map(|i| 1.0 / i).collect();
+        let rigid = Rigid {
+            inertia,
+            inv_inertia,
+            centre,
+        };
+        Self::build(mass, forces, Some(rigid))
+    }
+
+    fn build(mass: Vec<f64>, forces: &[ForceSpec], rigid: Option<Rigid>) -> Self {
         debug_assert!(mass.iter().all(|m| m.is_finite() && *m > 0.0));
         let inv_mass: Vec<f64> = mass.iter().map(|m| 1.0 / m).collect();
         let uniform_mass = match mass.first() {
             Some(&m) if mass.iter().all(|x| x.to_bits() == m.to_bits()) => Some((m, inv_mass[0])),
             _ => None,
         };
-        let forces = ForceSet::new(forces, mass.len());
+        let forces = ForceSet::new(forces, mass.len(), rigid.as_ref().map(|r| &r.centre[..]));
         let whole = forces.acts_on_whole_chunk(0, mass.len());
         let per_body = forces.has_per_body();
+        let spins = rigid
+            .as_ref()
+            .is_some_and(|r| forces.has_torque_sources(&r.centre));
         System {
             mass,
             inv_mass,
@@ -117,7 +236,30 @@ impl System {
             whole,
             per_body,
             finite_step: AtomicUsize::new(0),
+            rigid,
+            spins,
         }
+    }
+
+    /// Returns true when a step advances the angles and angular velocities: when
+    /// something can turn a body (a torque, a force or spring off a centre of mass), or
+    /// after [`System::start_spinning`]. When false, every ω is zero and stays so.
+    #[inline]
+    pub fn spins(&self) -> bool {
+        self.spins
+    }
+
+    /// Makes the steps advance the angles and angular velocities, as they must when
+    /// some body spins already, or when collisions may set bodies spinning. A system
+    /// built with [`System::new`] has no moments of inertia, and cannot spin.
+    pub fn start_spinning(&mut self) {
+        debug_assert!(self.rigid.is_some(), "a system without inertia cannot spin");
+        self.spins = self.rigid.is_some();
+    }
+
+    /// Returns the moments of inertia, or `None` for a system built with [`System::new`].
+    pub fn inertia(&self) -> Option<&[f64]> {
+        self.rigid.as_ref().map(|r| &r.inertia[..])
     }
 
     /// Returns the number of bodies.
@@ -193,6 +335,73 @@ impl System {
     #[inline]
     pub fn accelerations(&self, t: f64, pos: &[DVec2], vel: &[DVec2], acc: &mut [DVec2]) {
         self.forces_or_accelerations(t, pos, vel, acc, true);
+    }
+
+    /// Writes the acceleration of every centre of mass into `acc` and, when the system
+    /// spins, the angular acceleration of every body into `alpha`: the derivatives of
+    /// the velocities and angular velocities at time `t` and coordinates `y`.
+    ///
+    /// a = F_T/M (Equation 11) and α = τ_T/I, with τ_T the net torque about the centre
+    /// of mass. When the system does not spin this is [`System::accelerations`], and
+    /// `alpha` and the angles are not touched. When it spins, the forces that act on
+    /// each body alone are summed as there, then the springs add their forces and their
+    /// ends' torques, then the pure torques and the torques of forces applied off the
+    /// centre of mass are added; every force's sum on a body is the one
+    /// [`System::accelerations`] computes, to the bit, wherever it acts.
+    #[inline]
+    pub fn derivatives(&self, t: f64, y: Coords<'_>, acc: &mut [DVec2], alpha: &mut [f64]) {
+        if !self.spins {
+            self.accelerations(t, y.pos, y.vel, acc);
+            return;
+        }
+        self.forces_and_torques(t, y, acc, alpha);
+        let masses = self.masses_view();
+        for_each_chunk(acc, |start, out| {
+            divide_by_mass(masses.chunk(start, out.len()), out)
+        });
+        if let Some(rigid) = &self.rigid {
+            for (a, inv) in alpha.iter_mut().zip(&rigid.inv_inertia) {
+                // α = τ·(1/I).
+                *a *= *inv;
+            }
+        }
+    }
+
+    /// Writes the net force on every body into `force` and, when the system spins,
+    /// the net torque about every centre of mass into `torque`, at time `t` and
+    /// coordinates `y`.
+    pub fn net_forces_and_torques(
+        &self,
+        t: f64,
+        y: Coords<'_>,
+        force: &mut [DVec2],
+        torque: &mut [f64],
+    ) {
+        if !self.spins {
+            self.net_forces(t, y.pos, y.vel, force);
+            return;
+        }
+        self.forces_and_torques(t, y, force, torque);
+    }
+
+    /// The sums of [`System::net_forces_and_torques`] for a spinning system.
+    fn forces_and_torques(&self, t: f64, y: Coords<'_>, force: &mut [DVec2], torque: &mut [f64]) {
+        debug_assert_eq!(torque.len(), self.len());
+        let Some(rigid) = &self.rigid else {
+            return;
+        };
+        let masses = self.masses_view();
+        let forces = &self.forces;
+        for_each_chunk(force, |start, out| {
+            let mass = masses.chunk(start, out.len());
+            let range = start..start + out.len();
+            out.fill(DVec2::ZERO);
+            forces.accumulate_per_body(t, start, &y.pos[range.clone()], &y.vel[range], mass, out);
+        });
+        torque.fill(0.0);
+        let spin = (y.angle, y.omega);
+        forces.accumulate_springs_rigid(y.pos, y.vel, spin, force, torque);
+        forces.accumulate_torques(t, spin, &rigid.centre, torque);
     }
 
     /// Writes the accelerations a = F_T/M (Equation 11) at time `t` of the chunk of
@@ -475,26 +684,85 @@ impl System {
             .fold(DVec2::ZERO, |p, (v, m)| p + *m * *v)
     }
 
-    /// Returns the total kinetic energy Σ ½ m_i |v_i|².
-    pub fn kinetic_energy(&self, vel: &[DVec2]) -> f64 {
-        vel.iter()
+    /// Returns the total angular momentum about the point `origin`:
+    /// L_O = Σ ((r_i - O)⊥·(m_i·v_i) + I_i·ω_i), the orbital part of every centre of
+    /// mass plus every body's spin (which is zero for a system that does not spin).
+    pub fn angular_momentum(&self, state: &State, origin: DVec2) -> f64 {
+        let orbital: f64 = state
+            .pos
+            .iter()
+            .zip(&state.vel)
+            .zip(&self.mass)
+            .map(|((r, v), m)| perp_dot(*r - origin, *m * *v))
+            .sum();
+        orbital + self.spin_momentum(state)
+    }
+
+    /// Returns Σ I_i·ω_i, the bodies' spin angular momentum.
+    fn spin_momentum(&self, state: &State) -> f64 {
+        match &self.rigid {
+            Some(rigid) if self.spins => rigid
+                .inertia
+                .iter()
+                .zip(&state.omega)
+                .map(|(i, w)| i * w)
+                .sum(),
+            _ => 0.0,
+        }
+    }
+
+    /// Returns the total kinetic energy Σ (½·m_i·|v_i|² + ½·I_i·ω_i²): of the motion of
+    /// the centres of mass, plus of the spins when the system spins.
+    pub fn kinetic_energy(&self, state: &State) -> f64 {
+        let linear: f64 = state
+            .vel
+            .iter()
             .zip(&self.mass)
             .map(|(v, m)| 0.5 * m * v.length_squared())
-            .sum()
+            .sum();
+        match &self.rigid {
+            Some(rigid) if self.spins => {
+                // E = ½·M·|v|² + ½·I·ω².
+                let spin: f64 = rigid
+                    .inertia
+                    .iter()
+                    .zip(&state.omega)
+                    .map(|(i, w)| 0.5 * i * w * w)
+                    .sum();
+                linear + spin
+            }
+            _ => linear,
+        }
+    }
+
+    /// Returns the kinetic energy ½·m·|v|² + ½·I·ω² of body `i`.
+    pub fn kinetic_energy_of(&self, state: &State, i: usize) -> f64 {
+        let linear = 0.5 * self.mass[i] * state.vel[i].length_squared();
+        match &self.rigid {
+            Some(rigid) if self.spins => {
+                linear + 0.5 * rigid.inertia[i] * state.omega[i] * state.omega[i]
+            }
+            _ => linear,
+        }
     }
 
     /// Returns the potential energy of the conservative forces (gravity, springs,
-    /// central forces) at time `t`, or `None` when some force has no potential
-    /// (drag, time-varying forces), so that energy is not a conserved quantity.
-    pub fn potential_energy(&self, t: f64, pos: &[DVec2]) -> Option<f64> {
-        self.forces.potential_energy(t, pos, &self.mass)
+    /// central forces) at the state, or `None` when some force has no potential
+    /// (drag, angular drag, time-varying forces, torques), so that energy is not a
+    /// conserved quantity.
+    pub fn potential_energy(&self, state: &State) -> Option<f64> {
+        self.forces
+            .potential_energy(state.t, &state.pos, &state.angle, &self.mass)
     }
 
     /// Returns the mechanical energy, kinetic plus the potential of the conservative
-    /// forces, or `None` when the scene has an energy source (a time-varying force).
-    pub fn mechanical_energy(&self, pos: &[DVec2], vel: &[DVec2]) -> Option<f64> {
-        let u = self.forces.conservative_potential(pos, &self.mass)?;
-        Some(self.kinetic_energy(vel) + u)
+    /// forces, or `None` when the scene has an energy source (a time-varying force or
+    /// a constant torque).
+    pub fn mechanical_energy(&self, state: &State) -> Option<f64> {
+        let u = self
+            .forces
+            .conservative_potential(&state.pos, &state.angle, &self.mass)?;
+        Some(self.kinetic_energy(state) + u)
     }
 }
 
@@ -682,6 +950,7 @@ mod tests {
                 f0: DVec2::new(0.1, 0.2),
                 f1: DVec2::new(2.0, -1.0),
                 bodies: Selection::All,
+                at: None,
             },
             ForceSpec::Spring {
                 a: 0,
@@ -689,6 +958,8 @@ mod tests {
                 stiffness: 5.0,
                 rest_length: 0.5,
                 damping: 0.2,
+                a_at: None,
+                b_at: None,
             },
             ForceSpec::Central {
                 centre: DVec2::new(0.3, -0.4),
@@ -701,6 +972,8 @@ mod tests {
                 stiffness: 3.0,
                 rest_length: 0.0,
                 damping: 0.1,
+                a_at: None,
+                b_at: None,
             },
         ]
     }

@@ -137,11 +137,11 @@ fn run_fixed(problem: &ReferenceProblem, kind: IntegratorKind, steps: u64) -> (f
     let mut state = problem.initial().clone();
     let t0 = state.t;
     let h = (problem.t_end() - t0) / steps as f64;
-    let mut stepper = Stepper::new(kind, system.len());
+    let mut stepper = Stepper::new(kind, system);
     for n in 0..steps {
         // t_n = t0 + n·h, as the simulation computes it.
-        let t = t0 + n as f64 * h;
-        stepper.step(system, t, h, &mut state.pos, &mut state.vel);
+        state.t = t0 + n as f64 * h;
+        stepper.step(system, h, &mut state);
     }
     state.t = problem.t_end();
     (h, problem.position_error(&state))

@@ -103,8 +103,8 @@ pub struct EnergyStudy {
 /// Returns the total energy, kinetic plus potential, or `None` when some force has no
 /// potential (drag, forces that change in time).
 pub fn total_energy(system: &System, state: &State) -> Option<f64> {
-    let potential = system.potential_energy(state.t, &state.pos)?;
-    Some(system.kinetic_energy(&state.vel) + potential)
+    let potential = system.potential_energy(state)?;
+    Some(system.kinetic_energy(state) + potential)
 }
 
 /// Runs every integrator on `problem` for `options.steps` steps of `options.dt` and

@@ -145,11 +145,11 @@ impl ReferenceProblem {
     /// Returns the exact state at time `t`.
     pub fn exact(&self, t: f64) -> State {
         let s0 = &self.initial;
-        let mut out = State {
+        let mut out = State::new(
             t,
-            pos: Vec::with_capacity(s0.len()),
-            vel: Vec::with_capacity(s0.len()),
-        };
+            Vec::with_capacity(s0.len()),
+            Vec::with_capacity(s0.len()),
+        );
         for (i, (&r0, &v0)) in s0.pos.iter().zip(&s0.vel).enumerate() {
             let (r, v) = self.solution.body(i, t - s0.t, r0, v0);
             out.pos.push(r);
@@ -288,11 +288,11 @@ fn constant_acceleration() -> ReferenceProblem {
     ReferenceProblem {
         kind: ReferenceKind::ConstantAcceleration,
         system: System::new(vec![1.0, 2.0], &forces),
-        initial: State {
-            t: 0.0,
-            pos: vec![DVec2::new(0.0, 0.0), DVec2::new(1.0, 2.0)],
-            vel: vec![DVec2::new(2.0, 0.0), DVec2::new(-1.0, 3.0)],
-        },
+        initial: State::new(
+            0.0,
+            vec![DVec2::new(0.0, 0.0), DVec2::new(1.0, 2.0)],
+            vec![DVec2::new(2.0, 0.0), DVec2::new(-1.0, 3.0)],
+        ),
         t_end: 2.0,
         solution: Solution::ConstantAcceleration { acc },
     }
@@ -311,11 +311,7 @@ fn drag() -> ReferenceProblem {
                 bodies: Selection::All,
             }],
         ),
-        initial: State {
-            t: 0.0,
-            pos: vec![DVec2::new(0.0, 1.0)],
-            vel: vec![DVec2::new(3.0, -1.0)],
-        },
+        initial: State::new(0.0, vec![DVec2::new(0.0, 1.0)], vec![DVec2::new(3.0, -1.0)]),
         t_end: 4.0,
         solution: Solution::Drag {
             rate: k / m,
@@ -343,11 +339,7 @@ fn drag_gravity() -> ReferenceProblem {
                 },
             ],
         ),
-        initial: State {
-            t: 0.0,
-            pos: vec![DVec2::ZERO],
-            vel: vec![DVec2::new(10.0, 10.0)],
-        },
+        initial: State::new(0.0, vec![DVec2::ZERO], vec![DVec2::new(10.0, 10.0)]),
         t_end: 3.0,
         solution: Solution::Drag { rate: k / m, g },
     }
@@ -365,13 +357,10 @@ fn time_force() -> ReferenceProblem {
                 f0: DVec2::ZERO,
                 f1,
                 bodies: Selection::All,
+                at: None,
             }],
         ),
-        initial: State {
-            t: 0.0,
-            pos: vec![DVec2::new(0.0, 0.0)],
-            vel: vec![DVec2::new(1.0, 0.5)],
-        },
+        initial: State::new(0.0, vec![DVec2::new(0.0, 0.0)], vec![DVec2::new(1.0, 0.5)]),
         t_end: 2.0,
         solution: Solution::TimeForce { f1_over_m: f1 / m },
     }
@@ -395,13 +384,15 @@ fn spring() -> ReferenceProblem {
                 stiffness: m * omega * omega,
                 rest_length: 0.0,
                 damping: 0.0,
+                a_at: None,
+                b_at: None,
             }],
         ),
-        initial: State {
-            t: 0.0,
-            pos: vec![centre + DVec2::new(1.0, 0.0)],
-            vel: vec![DVec2::new(0.0, 0.5 * omega)],
-        },
+        initial: State::new(
+            0.0,
+            vec![centre + DVec2::new(1.0, 0.0)],
+            vec![DVec2::new(0.0, 0.5 * omega)],
+        ),
         t_end: 1.25,
         solution: Solution::Oscillator {
             centre,
@@ -430,13 +421,15 @@ fn damped_spring() -> ReferenceProblem {
                 stiffness: m * omega * omega,
                 rest_length: 0.0,
                 damping,
+                a_at: None,
+                b_at: None,
             }],
         ),
-        initial: State {
-            t: 0.0,
-            pos: vec![centre + DVec2::new(1.0, 0.0)],
-            vel: vec![DVec2::new(-2.0, 0.0)],
-        },
+        initial: State::new(
+            0.0,
+            vec![centre + DVec2::new(1.0, 0.0)],
+            vec![DVec2::new(-2.0, 0.0)],
+        ),
         t_end: 2.25,
         solution: Solution::Oscillator {
             centre,
@@ -463,11 +456,11 @@ fn orbit() -> ReferenceProblem {
                 bodies: Selection::All,
             }],
         ),
-        initial: State {
-            t: 0.0,
-            pos: vec![centre + DVec2::new(radius, 0.0)],
-            vel: vec![DVec2::new(0.0, (mu / radius).sqrt())],
-        },
+        initial: State::new(
+            0.0,
+            vec![centre + DVec2::new(radius, 0.0)],
+            vec![DVec2::new(0.0, (mu / radius).sqrt())],
+        ),
         t_end: 1.25,
         solution: Solution::Circle {
             centre,

@@ -23,7 +23,7 @@ use std::str::FromStr;
 
 use glam::DVec2;
 
-use crate::sim::{Anchor, ForceSpec, IntegratorKind, Selection, Stepper, System};
+use crate::sim::{Anchor, ForceSpec, IntegratorKind, Selection, State, Stepper, System};
 
 /// The header of the table CSV that [`write_csv`] writes.
 pub const CSV_HEADER: &str = "problem,integrator,boundary_found,boundary_theory,relative_difference,sign_flip_found,sign_flip_theory,max_growth_deviation,note";
@@ -181,9 +181,9 @@ pub fn growth_at(
             );
             // |v0| = 1, in a direction that is neither axis.
             let v0 = DVec2::new(0.6, 0.8);
-            let mut pos = [DVec2::ZERO];
-            let mut vel = [v0];
-            Stepper::new(kind, 1).step(&system, 0.0, h, &mut pos, &mut vel);
+            let mut state = State::new(0.0, vec![DVec2::ZERO], vec![v0]);
+            Stepper::new(kind, &system).step(&system, h, &mut state);
+            let vel = &state.vel;
             // v1 = R·v0, so R = v1·v0/|v0|².
             let signed = vel[0].dot(v0) / v0.length_squared();
             Growth {
@@ -202,16 +202,18 @@ pub fn growth_at(
                     stiffness: m * omega * omega,
                     rest_length: 0.0,
                     damping: 0.0,
+                    a_at: None,
+                    b_at: None,
                 }],
             );
             // A spring of rest length 0 pulls each coordinate on its own, so the x and y
             // coordinates carry two independent initial states of the one-dimensional
             // oscillator, in the scaled coordinates q = (x, v/ω): e1 = (1, 0) along x
             // and e2 = (0, 1) along y.
-            let mut pos = [DVec2::new(1.0, 0.0)];
-            let mut vel = [DVec2::new(0.0, omega)];
-            let e0 = spring_energy(m, omega, pos[0], vel[0]);
-            Stepper::new(kind, 1).step(&system, 0.0, h, &mut pos, &mut vel);
+            let mut state = State::new(0.0, vec![DVec2::X], vec![DVec2::new(0.0, omega)]);
+            let e0 = spring_energy(m, omega, state.pos[0], state.vel[0]);
+            Stepper::new(kind, &system).step(&system, h, &mut state);
+            let (pos, vel) = (&state.pos, &state.vel);
             // The one-step map A in q: its columns are the images of e1 and e2,
             // A = [[x_x, x_y], [v_x/ω, v_y/ω]].
             let a = [[pos[0].x, pos[0].y], [vel[0].x / omega, vel[0].y / omega]];
@@ -872,6 +874,8 @@ mod tests {
             stiffness: 4.0,
             rest_length: 0.0,
             damping: 0.0,
+            a_at: None,
+            b_at: None,
         }];
         let hint = stable_step_hint(IntegratorKind::Euler, &[1.0], &spring).expect("a hint");
         assert!(hint.contains("never stable"), "{hint}");

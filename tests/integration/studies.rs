@@ -154,6 +154,8 @@ fn the_one_step_spectral_radius_is_the_long_run_growth_rate() {
             stiffness: omega * omega,
             rest_length: 0.0,
             damping: 0.0,
+            a_at: None,
+            b_at: None,
         }],
     );
     for (kind, s) in [
@@ -164,11 +166,7 @@ fn the_one_step_spectral_radius_is_the_long_run_growth_rate() {
         (Verlet, 2.1),
     ] {
         let rho = growth(StabilityProblem::Spring, kind, s).factor;
-        let state = State {
-            t: 0.0,
-            pos: vec![DVec2::new(0.3, 0.0)],
-            vel: vec![DVec2::new(0.4, 0.0)],
-        };
+        let state = State::new(0.0, vec![DVec2::new(0.3, 0.0)], vec![DVec2::new(0.4, 0.0)]);
         let norm = |st: &State| {
             (st.pos[0].length_squared() + st.vel[0].length_squared() / (omega * omega)).sqrt()
         };
@@ -224,11 +222,7 @@ fn adaptive_dopri5_on_stiff_drag_holds_its_step_at_the_stability_limit() {
                 bodies: Selection::All,
             }],
         );
-        let state = State {
-            t: 0.0,
-            pos: vec![DVec2::ZERO],
-            vel: vec![DVec2::new(1.0, 0.0)],
-        };
+        let state = State::new(0.0, vec![DVec2::ZERO], vec![DVec2::new(1.0, 0.0)]);
         let mut sim =
             Simulation::new(system, state, Dopri5, 10.0).with_tolerances(Tolerances::both(tol));
         sim.advance_to(1.0).expect("finite");

@@ -1,25 +1,33 @@
-//! Forces, one file per family, gathered into a [`ForceSet`] that sums them.
+//! Forces and torques, one file per family, gathered into a [`ForceSet`] that sums them.
 //!
 //! Each family keeps its own list, so a scene pays per step only for the kinds of force
 //! it declares: an empty list is one branch on its length. Every force adds into a
-//! net-force buffer (Equation 11: all forces act at the centre of mass); the system then
-//! divides by mass.
+//! net-force buffer (Equation 11: the net force accelerates the centre of mass,
+//! wherever on the body each force acts); the system then divides by mass. A force
+//! applied off the centre of mass (a force `at` a body point, a spring anchored off
+//! it) also adds its torque τ = r⊥·F into a net-torque buffer, beside the pure torques
+//! (constant torque, angular drag), and the system divides that by the moment of
+//! inertia: α = Στ/I.
 
+mod angular_drag;
 mod central;
 mod constant_gravity;
 mod linear_drag;
 mod quadratic_drag;
 mod spring;
 mod time_varying;
+mod torque;
 
 use glam::DVec2;
 
+pub use angular_drag::AngularDrag;
 pub use central::Central;
 pub use constant_gravity::Gravity;
 pub use linear_drag::LinearDrag;
 pub use quadratic_drag::QuadraticDrag;
 pub use spring::Spring;
 pub use time_varying::TimeVarying;
+pub use torque::ConstantTorque;
 
 /// Bodies whose forces are summed at once in the per-body loops (see
 /// [`ForceSet::forces_on`]).
@@ -182,20 +190,31 @@ pub enum ForceSpec {
     Drag { k: f64, bodies: Selection },
     /// Quadratic drag: F = -c·|v|·v.
     QuadraticDrag { c: f64, bodies: Selection },
-    /// A force that changes linearly in time: F = f0 + f1·t (the article's F = 2t).
+    /// A force that changes linearly in time: F = f0 + f1·t (the article's F = 2t),
+    /// at the centre of mass or, with `at`, at that body point (body coordinates),
+    /// where it also exerts a torque.
     TimeVarying {
         f0: DVec2,
         f1: DVec2,
         bodies: Selection,
+        at: Option<DVec2>,
     },
-    /// A spring (Hooke's law with damping along its axis) from body `a` to `b`.
+    /// A spring (Hooke's law with damping along its axis) from body `a` to `b`, with
+    /// its ends at the centres of mass or, with `a_at` and `b_at`, at those body points
+    /// (body coordinates); `b_at` only when `b` is a body.
     Spring {
         a: u32,
         b: Anchor,
         stiffness: f64,
         rest_length: f64,
         damping: f64,
+        a_at: Option<DVec2>,
+        b_at: Option<DVec2>,
     },
+    /// A constant torque τ (counter-clockwise positive).
+    Torque { tau: f64, bodies: Selection },
+    /// Angular drag: τ = -k·ω.
+    AngularDrag { k: f64, bodies: Selection },
     /// An attractive inverse-square force towards a fixed centre:
     /// F = -μ·m·(r - c)/|r - c|³, with μ the strength.
     Central {
@@ -215,6 +234,8 @@ impl ForceSpec {
             ForceSpec::TimeVarying { .. } => "force",
             ForceSpec::Spring { .. } => "spring",
             ForceSpec::Central { .. } => "central",
+            ForceSpec::Torque { .. } => "torque",
+            ForceSpec::AngularDrag { .. } => "angular-drag",
         }
     }
 }
@@ -229,11 +250,19 @@ pub struct ForceSet {
     time_varying: Vec<TimeVarying>,
     springs: Vec<Spring>,
     central: Vec<Central>,
+    torque: Vec<ConstantTorque>,
+    angular_drag: Vec<AngularDrag>,
 }
 
 impl ForceSet {
     /// Groups validated force specifications by family for a scene of `n` bodies.
-    pub fn new(specs: &[ForceSpec], n: usize) -> Self {
+    ///
+    /// `centre` gives each body's centre of mass in its body coordinates, to turn the
+    /// body points at which springs are anchored into arms from the centre of mass;
+    /// `None` means every centre of mass is the origin of its body coordinates.
+    pub fn new(specs: &[ForceSpec], n: usize, centre: Option<&[DVec2]>) -> Self {
+        debug_assert!(centre.is_none_or(|c| c.len() == n));
+        let centre_of = |i: usize| centre.map_or(DVec2::ZERO, |c| c[i]);
         let mut set = ForceSet {
             n,
             ..ForceSet::default()
@@ -245,8 +274,8 @@ impl ForceSet {
                 ForceSpec::QuadraticDrag { c, bodies } => {
                     set.quadratic_drag.push(QuadraticDrag { c, bodies })
                 }
-                ForceSpec::TimeVarying { f0, f1, bodies } => {
-                    set.time_varying.push(TimeVarying { f0, f1, bodies })
+                ForceSpec::TimeVarying { f0, f1, bodies, at } => {
+                    set.time_varying.push(TimeVarying { f0, f1, bodies, at })
                 }
                 ForceSpec::Spring {
                     a,
@@ -254,13 +283,32 @@ impl ForceSet {
                     stiffness,
                     rest_length,
                     damping,
-                } => set.springs.push(Spring {
-                    a,
-                    b,
-                    stiffness,
-                    rest_length,
-                    damping,
-                }),
+                    a_at,
+                    b_at,
+                } => {
+                    // The arm from each centre of mass to its end, in body axes: at - c.
+                    let arm_a = a_at.map_or(DVec2::ZERO, |p| p - centre_of(a as usize));
+                    let arm_b = match (b, b_at) {
+                        (Anchor::Body(b), Some(p)) => p - centre_of(b as usize),
+                        _ => DVec2::ZERO,
+                    };
+                    let arms =
+                        (arm_a != DVec2::ZERO || arm_b != DVec2::ZERO).then_some((arm_a, arm_b));
+                    set.springs.push(Spring {
+                        a,
+                        b,
+                        stiffness,
+                        rest_length,
+                        damping,
+                        arms,
+                    })
+                }
+                ForceSpec::Torque { tau, bodies } => {
+                    set.torque.push(ConstantTorque { tau, bodies })
+                }
+                ForceSpec::AngularDrag { k, bodies } => {
+                    set.angular_drag.push(AngularDrag { k, bodies })
+                }
                 ForceSpec::Central {
                     centre,
                     strength,
@@ -283,14 +331,33 @@ impl ForceSet {
             && self.time_varying.is_empty()
             && self.springs.is_empty()
             && self.central.is_empty()
+            && self.torque.is_empty()
+            && self.angular_drag.is_empty()
     }
 
-    /// Returns true when some force depends on velocity (drag, spring damping), which
-    /// matters to integrators such as velocity Verlet that assume it does not.
+    /// Returns true when some force depends on velocity or angular velocity (drag,
+    /// spring damping, angular drag), which matters to integrators such as velocity
+    /// Verlet that assume it does not.
     pub fn depends_on_velocity(&self) -> bool {
         !self.drag.is_empty()
             || !self.quadratic_drag.is_empty()
+            || !self.angular_drag.is_empty()
             || self.springs.iter().any(|s| s.damping != 0.0)
+    }
+
+    /// Returns true when something here can set a body turning: a constant torque, a
+    /// force applied off some body's centre of mass (`centre` gives each body's centre
+    /// of mass in body coordinates), or a spring anchored off one. Angular drag alone
+    /// cannot: it only slows a spin that is already there.
+    pub fn has_torque_sources(&self, centre: &[DVec2]) -> bool {
+        !self.torque.is_empty()
+            || self.springs.iter().any(|s| s.arms.is_some())
+            || self.time_varying.iter().any(|f| f.has_lever(centre))
+    }
+
+    /// Returns true when some torque acts: a torque source, or angular drag.
+    pub fn has_torques(&self, centre: &[DVec2]) -> bool {
+        !self.angular_drag.is_empty() || self.has_torque_sources(centre)
     }
 
     /// Returns true when some force that acts on each body alone (all but the springs)
@@ -313,7 +380,9 @@ impl ForceSet {
         let only_these = self.quadratic_drag.is_empty()
             && self.time_varying.is_empty()
             && self.springs.is_empty()
-            && self.central.is_empty();
+            && self.central.is_empty()
+            && self.torque.is_empty()
+            && self.angular_drag.is_empty();
         if !only_these
             || !self.gravity.iter().all(|f| everyone(&f.bodies))
             || !self.drag.iter().all(|f| everyone(&f.bodies))
@@ -464,10 +533,63 @@ impl ForceSet {
         }
     }
 
+    /// Adds every spring's force, in file order, to both its ends, and the torque of
+    /// each end that is off its body's centre of mass to that body (whole arrays;
+    /// `spin` holds the angles and angular velocities). A spring between centres of
+    /// mass adds what [`ForceSet::accumulate_springs`] adds.
+    #[inline]
+    pub fn accumulate_springs_rigid(
+        &self,
+        pos: &[DVec2],
+        vel: &[DVec2],
+        spin: (&[f64], &[f64]),
+        force: &mut [DVec2],
+        torque: &mut [f64],
+    ) {
+        for f in &self.springs {
+            f.accumulate_rigid(pos, vel, spin, force, torque);
+        }
+    }
+
+    /// Adds the torques that act on each body alone to `torque` (whole arrays), family
+    /// by family in a fixed order, each in file order: constant torques, angular drag,
+    /// then the torques of forces applied off the centre of mass. `centre` gives each
+    /// body's centre of mass in body coordinates.
+    #[inline]
+    pub fn accumulate_torques(
+        &self,
+        t: f64,
+        (angle, omega): (&[f64], &[f64]),
+        centre: &[DVec2],
+        torque: &mut [f64],
+    ) {
+        for f in &self.torque {
+            f.accumulate(torque);
+        }
+        for f in &self.angular_drag {
+            f.accumulate(omega, torque);
+        }
+        for f in &self.time_varying {
+            f.accumulate_torque(t, angle, centre, torque);
+        }
+    }
+
     /// Returns the total potential energy of the forces at time `t`, or `None` when a
-    /// force without a potential (drag, time-varying force, damped spring) is present.
-    pub fn potential_energy(&self, _t: f64, pos: &[DVec2], mass: &[f64]) -> Option<f64> {
-        if !self.drag.is_empty() || !self.quadratic_drag.is_empty() || !self.time_varying.is_empty()
+    /// force without a potential (drag, angular drag, time-varying force, constant
+    /// torque, damped spring) is present. `angle` places springs' ends that are off the
+    /// centres of mass.
+    pub fn potential_energy(
+        &self,
+        _t: f64,
+        pos: &[DVec2],
+        angle: &[f64],
+        mass: &[f64],
+    ) -> Option<f64> {
+        if !self.drag.is_empty()
+            || !self.quadratic_drag.is_empty()
+            || !self.time_varying.is_empty()
+            || !self.torque.is_empty()
+            || !self.angular_drag.is_empty()
         {
             return None;
         }
@@ -476,7 +598,7 @@ impl ForceSet {
             energy += f.potential_energy(pos, mass);
         }
         for f in &self.springs {
-            energy += f.potential_energy(pos)?;
+            energy += f.potential_energy(pos, angle)?;
         }
         for f in &self.central {
             energy += f.potential_energy(pos, mass);
@@ -485,12 +607,18 @@ impl ForceSet {
     }
 
     /// Returns the potential energy of the conservative parts of the forces (gravity,
-    /// the elastic part of springs, central forces), or `None` when a time-varying
-    /// force is present. Drag and damping only ever remove energy, so without a
-    /// time-varying force the kinetic plus this potential energy cannot grow in the
-    /// exact dynamics: growth is the integrator's doing.
-    pub fn conservative_potential(&self, pos: &[DVec2], mass: &[f64]) -> Option<f64> {
-        if !self.time_varying.is_empty() {
+    /// the elastic part of springs, central forces), or `None` when an energy source
+    /// (a time-varying force or a constant torque) is present. Drag, angular drag and
+    /// damping only ever remove energy, so without a source the kinetic plus this
+    /// potential energy cannot grow in the exact dynamics: growth is the integrator's
+    /// doing. `angle` places springs' ends that are off the centres of mass.
+    pub fn conservative_potential(
+        &self,
+        pos: &[DVec2],
+        angle: &[f64],
+        mass: &[f64],
+    ) -> Option<f64> {
+        if !self.time_varying.is_empty() || !self.torque.is_empty() {
             return None;
         }
         let mut energy = 0.0;
@@ -498,7 +626,7 @@ impl ForceSet {
             energy += f.potential_energy(pos, mass);
         }
         for f in &self.springs {
-            energy += f.elastic_energy(pos);
+            energy += f.elastic_energy(pos, angle);
         }
         for f in &self.central {
             energy += f.potential_energy(pos, mass);

@@ -2,8 +2,9 @@
 
 use glam::DVec2;
 
-use crate::sim::system::{for_each_chunk_pair, sum_is_finite, wide_vectors};
-use crate::sim::System;
+use super::{euler_advance, Slopes};
+use crate::sim::system::{for_each_chunk_pair, sum_is_finite, wide_vectors, Coords};
+use crate::sim::{State, System};
 
 /// Advances one step of explicit Euler.
 ///
@@ -18,14 +19,22 @@ use crate::sim::System;
 /// is what makes it explicit (and what the symplectic variant changes). Its global error
 /// is first order in h. On the drag equation dv/dt = -k·v/m it gives exactly
 /// v_n = v0·(1 - h·k/m)^n, stable while h·k/m ≤ 2.
-pub fn step(
-    system: &System,
-    t: f64,
-    h: f64,
-    pos: &mut [DVec2],
-    vel: &mut [DVec2],
-    acc: &mut [DVec2],
-) {
+///
+/// A spinning body's angle and angular velocity take the same step from the angular
+/// acceleration α = τ/I at the start of the step:
+///
+///   θ(t + h) = θ(t) + h·ω(t)
+///   ω(t + h) = ω(t) + h·τ(t, state)/I
+pub fn step(system: &System, h: f64, state: &mut State, slopes: &mut Slopes) {
+    let t = state.t;
+    if system.spins() {
+        system.derivatives(t, Coords::of(state), &mut slopes.acc, &mut slopes.alpha);
+        system.record_finite_step(&state.pos, false);
+        euler_advance(h, &mut state.pos, &mut state.vel, &slopes.acc);
+        euler_advance(h, &mut state.angle, &mut state.omega, &slopes.alpha);
+        return;
+    }
+    let (pos, vel) = (&mut state.pos[..], &mut state.vel[..]);
     if system.is_per_body() {
         // Without springs each body's acceleration depends on that body alone, so each
         // chunk computes its accelerations and is advanced at once, while its data is
@@ -55,8 +64,8 @@ pub fn step(
         return;
     }
     system.record_finite_step(pos, false);
-    system.accelerations(t, pos, vel, acc);
-    advance(h, pos, vel, acc);
+    system.accelerations(t, pos, vel, &mut slopes.acc);
+    euler_advance(h, pos, vel, &slopes.acc);
 }
 
 /// Advances the chunk of bodies `start..start + pos.len()` by one step and returns
@@ -78,15 +87,4 @@ fn chunk(
         *v += h * a;
     });
     sum_is_finite(pos, vel)
-}
-
-/// Moves every body with the velocity and acceleration from the start of the step.
-#[inline]
-fn advance(h: f64, pos: &mut [DVec2], vel: &mut [DVec2], acc: &[DVec2]) {
-    for ((r, v), a) in pos.iter_mut().zip(vel.iter_mut()).zip(acc.iter()) {
-        // r(t + h) = r(t) + h·v(t), with the velocity from the start of the step.
-        *r += h * *v;
-        // v(t + h) = v(t) + h·a(t), a = F(t, r(t), v(t))/m.
-        *v += h * *a;
-    }
 }

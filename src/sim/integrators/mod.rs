@@ -1,8 +1,13 @@
 //! Numerical integrators, one file per method, behind one enum and one `match`.
 //!
 //! Every integrator advances the flat arrays of positions and velocities from time t to
-//! t + h using only the accelerations that the [`System`] reports. Scratch buffers live
-//! in the [`Stepper`] and are allocated once per run, never per step.
+//! t + h using only the accelerations that the [`System`] reports. When the system
+//! spins ([`System::spins`]), it advances the angles and angular velocities in the same
+//! stages, from the angular accelerations the system reports with the accelerations:
+//! each method's stages are written once, generic over the coordinate type ([`Dof`]),
+//! and run on the linear pair (r, v) and the angular pair (θ, ω) alike. Scratch buffers
+//! live in the [`Stepper`] and are allocated once per run, never per step; the angular
+//! ones only for a system that spins.
 //!
 //! The fixed-step methods are explicit Euler, symplectic Euler, midpoint, Heun, RK4 and
 //! velocity Verlet. Dormand–Prince 5(4) is adaptive: [`Stepper::attempt`] and
@@ -23,7 +28,8 @@ use std::str::FromStr;
 
 use glam::DVec2;
 
-use super::System;
+use super::dof::Dof;
+use super::{State, System};
 
 pub use dopri5::{StepController, Tolerances};
 
@@ -135,13 +141,31 @@ impl FromStr for IntegratorKind {
     }
 }
 
+/// One evaluation's derivatives of the velocities: the accelerations a of the centres of
+/// mass and, for a system that spins, the angular accelerations α (empty otherwise).
+#[derive(Clone, Debug)]
+pub(crate) struct Slopes {
+    pub acc: Vec<DVec2>,
+    pub alpha: Vec<f64>,
+}
+
+impl Slopes {
+    /// Allocates the slopes of `n` bodies, with angular ones when `spin`.
+    pub fn new(n: usize, spin: bool) -> Self {
+        Slopes {
+            acc: vec![DVec2::ZERO; n],
+            alpha: vec![0.0; if spin { n } else { 0 }],
+        }
+    }
+}
+
 /// The scratch buffers of each method.
 #[derive(Clone, Debug)]
 enum Workspace {
     /// Explicit Euler's accelerations.
-    Euler(Vec<DVec2>),
+    Euler(Slopes),
     /// Symplectic Euler's accelerations.
-    SymplecticEuler(Vec<DVec2>),
+    SymplecticEuler(Slopes),
     Midpoint(midpoint::Midpoint),
     Heun(heun::Heun),
     Rk4(rk4::Rk4),
@@ -160,16 +184,20 @@ pub struct Stepper {
 }
 
 impl Stepper {
-    /// Creates a stepper for `n` bodies, allocating every buffer it will use.
-    pub fn new(kind: IntegratorKind, n: usize) -> Self {
+    /// Creates a stepper for the bodies of `system`, allocating every buffer it will
+    /// use: angular ones only when the system spins.
+    pub fn new(kind: IntegratorKind, system: &System) -> Self {
+        let (n, spin) = (system.len(), system.spins());
         let work = match kind {
-            IntegratorKind::Euler => Workspace::Euler(vec![DVec2::ZERO; n]),
-            IntegratorKind::SymplecticEuler => Workspace::SymplecticEuler(vec![DVec2::ZERO; n]),
-            IntegratorKind::Midpoint => Workspace::Midpoint(midpoint::Midpoint::new(n)),
-            IntegratorKind::Heun => Workspace::Heun(heun::Heun::new(n)),
-            IntegratorKind::Rk4 => Workspace::Rk4(rk4::Rk4::new(n)),
-            IntegratorKind::Verlet => Workspace::Verlet(velocity_verlet::VelocityVerlet::new(n)),
-            IntegratorKind::Dopri5 => Workspace::Dopri5(Box::new(dopri5::Dopri5::new(n))),
+            IntegratorKind::Euler => Workspace::Euler(Slopes::new(n, spin)),
+            IntegratorKind::SymplecticEuler => Workspace::SymplecticEuler(Slopes::new(n, spin)),
+            IntegratorKind::Midpoint => Workspace::Midpoint(midpoint::Midpoint::new(n, spin)),
+            IntegratorKind::Heun => Workspace::Heun(heun::Heun::new(n, spin)),
+            IntegratorKind::Rk4 => Workspace::Rk4(rk4::Rk4::new(n, spin)),
+            IntegratorKind::Verlet => {
+                Workspace::Verlet(velocity_verlet::VelocityVerlet::new(n, spin))
+            }
+            IntegratorKind::Dopri5 => Workspace::Dopri5(Box::new(dopri5::Dopri5::new(n, spin))),
         };
         Stepper {
             kind,
@@ -199,45 +227,49 @@ impl Stepper {
         }
     }
 
-    /// Advances `pos` and `vel` from time `t` to `t + h` with a fixed step.
+    /// Advances `state` from its time t to t + h with a fixed step, and sets its time
+    /// to t + h. (The simulation then writes t = t0 + n·h, which does not accumulate
+    /// rounding.) The angles and angular velocities advance only when the system spins.
     ///
     /// For dopri5 this is one step of its fifth-order solution, without error control.
-    pub fn step(&mut self, system: &System, t: f64, h: f64, pos: &mut [DVec2], vel: &mut [DVec2]) {
+    pub fn step(&mut self, system: &System, h: f64, state: &mut State) {
         debug_assert!(h > 0.0 && h.is_finite());
+        debug_assert!(!system.spins() || state.angle.len() == state.len());
+        let t = state.t;
         let used = match &mut self.work {
-            Workspace::Euler(acc) => {
-                explicit_euler::step(system, t, h, pos, vel, acc);
+            Workspace::Euler(slopes) => {
+                explicit_euler::step(system, h, state, slopes);
                 1
             }
-            Workspace::SymplecticEuler(acc) => symplectic_euler::step(system, t, h, pos, vel, acc),
-            Workspace::Midpoint(w) => w.step(system, t, h, pos, vel),
-            Workspace::Heun(w) => w.step(system, t, h, pos, vel),
-            Workspace::Rk4(w) => w.step(system, t, h, pos, vel),
-            Workspace::Verlet(w) => w.step(system, t, h, pos, vel),
+            Workspace::SymplecticEuler(slopes) => symplectic_euler::step(system, h, state, slopes),
+            Workspace::Midpoint(w) => w.step(system, h, state),
+            Workspace::Heun(w) => w.step(system, h, state),
+            Workspace::Rk4(w) => w.step(system, h, state),
+            Workspace::Verlet(w) => w.step(system, h, state),
             Workspace::Dopri5(w) => {
                 let tol = Tolerances::default();
-                let (_, used) = w.attempt(system, t, h, pos, vel, tol);
-                w.accept(t + h, pos, vel);
+                let (_, used) = w.attempt(system, h, state, tol);
+                w.accept(t + h, state);
                 used
             }
         };
+        state.t = t + h;
         self.evaluations += u64::from(used);
     }
 
-    /// Chooses the first step of an adaptive method (see `Dopri5::initial_step`),
-    /// at most `h_max`; a fixed-step method simply returns `h_max`.
+    /// Chooses the first step of an adaptive method from `state` (see
+    /// `Dopri5::initial_step`), at most `h_max`; a fixed-step method simply returns
+    /// `h_max`.
     pub fn initial_step(
         &mut self,
         system: &System,
-        t: f64,
-        pos: &[DVec2],
-        vel: &[DVec2],
+        state: &State,
         tol: Tolerances,
         h_max: f64,
     ) -> f64 {
         match &mut self.work {
             Workspace::Dopri5(w) => {
-                let (h, used) = w.initial_step(system, t, pos, vel, tol, h_max);
+                let (h, used) = w.initial_step(system, state, tol, h_max);
                 self.evaluations += u64::from(used);
                 h
             }
@@ -245,23 +277,21 @@ impl Stepper {
         }
     }
 
-    /// Computes a candidate step from `(t, pos, vel)` to `t + h` without changing the
-    /// state, and returns its weighted RMS error estimate (at most 1 means within
+    /// Computes a candidate step from `state` (at its time t) to t + h without changing
+    /// the state, and returns its weighted RMS error estimate (at most 1 means within
     /// `tol`), or `None` for a method without an error estimate, which computes nothing.
     /// Every force evaluation is counted, whether the step is then accepted or not.
     pub fn attempt(
         &mut self,
         system: &System,
-        t: f64,
         h: f64,
-        pos: &[DVec2],
-        vel: &[DVec2],
+        state: &State,
         tol: Tolerances,
     ) -> Option<f64> {
         debug_assert!(h > 0.0 && h.is_finite());
         match &mut self.work {
             Workspace::Dopri5(w) => {
-                let (error, used) = w.attempt(system, t, h, pos, vel, tol);
+                let (error, used) = w.attempt(system, h, state, tol);
                 self.evaluations += u64::from(used);
                 Some(error)
             }
@@ -269,26 +299,31 @@ impl Stepper {
         }
     }
 
-    /// Writes the candidate of the last [`Stepper::attempt`] into `pos` and `vel`, whose
-    /// time is `t_new`, and returns true when every value written is known to be
-    /// finite. Does nothing (and returns false) for a method without an error estimate.
-    pub fn accept(&mut self, t_new: f64, pos: &mut [DVec2], vel: &mut [DVec2]) -> bool {
+    /// Writes the candidate of the last [`Stepper::attempt`] into `state`, with the time
+    /// `t_new`, and returns true when every value written is known to be finite. Does
+    /// nothing (and returns false) for a method without an error estimate.
+    pub fn accept(&mut self, t_new: f64, state: &mut State) -> bool {
         match &mut self.work {
-            Workspace::Dopri5(w) => w.accept(t_new, pos, vel),
+            Workspace::Dopri5(w) => {
+                let finite = w.accept(t_new, state);
+                state.t = t_new;
+                finite
+            }
             _ => false,
         }
     }
 }
 
-/// Writes the state a sub-step of explicit Euler of length `c` reaches from (r, v) with
-/// acceleration a, the first stage of the midpoint and Heun methods:
+/// Writes the state a sub-step of explicit Euler of length `c` reaches from a
+/// coordinate y and its rate y' with derivative a, the first stage of the midpoint
+/// and Heun methods; for (r, v) and for (θ, ω) alike:
 ///
 ///   r_out = r + c·v,  v_out = v + c·a
-pub(crate) fn euler_substep(
+pub(crate) fn euler_substep<T: Dof>(
     c: f64,
-    (pos, vel, acc): (&[DVec2], &[DVec2], &[DVec2]),
-    out_pos: &mut [DVec2],
-    out_vel: &mut [DVec2],
+    (pos, vel, acc): (&[T], &[T], &[T]),
+    out_pos: &mut [T],
+    out_vel: &mut [T],
 ) {
     for (((ro, vo), (r, v)), a) in out_pos
         .iter_mut()
@@ -297,8 +332,23 @@ pub(crate) fn euler_substep(
         .zip(acc)
     {
         // r_out = r + c·v.
-        *ro = *r + c * *v;
+        *ro = *r + *v * c;
         // v_out = v + c·a.
-        *vo = *v + c * *a;
+        *vo = *v + *a * c;
+    }
+}
+
+/// Advances a coordinate and its rate by one step of explicit Euler with derivative a,
+/// for (r, v) and for (θ, ω) alike:
+///
+///   r(t + h) = r(t) + h·v(t)
+///   v(t + h) = v(t) + h·a(t)
+#[inline]
+pub(crate) fn euler_advance<T: Dof>(h: f64, pos: &mut [T], vel: &mut [T], acc: &[T]) {
+    for ((r, v), a) in pos.iter_mut().zip(vel.iter_mut()).zip(acc.iter()) {
+        // r(t + h) = r(t) + h·v(t), with the rate from the start of the step.
+        *r += *v * h;
+        // v(t + h) = v(t) + h·a(t).
+        *v += *a * h;
     }
 }
