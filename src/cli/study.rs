@@ -74,7 +74,8 @@ impl IntegratorList {
 #[derive(Debug, Args)]
 struct ConvergenceArgs {
     /// The reference problem: constant-acceleration, drag, drag-gravity, time-force,
-    /// spring, damped-spring or orbit.
+    /// spring, damped-spring, orbit, or one whose bodies turn: spin-up, angular-drag or
+    /// hanging-box.
     #[arg(long, value_name = "NAME", default_value = "spring")]
     problem: String,
     #[command(flatten)]
@@ -90,7 +91,8 @@ struct ConvergenceArgs {
 #[derive(Debug, Args)]
 struct WorkPrecisionArgs {
     /// The reference problem: constant-acceleration, drag, drag-gravity, time-force,
-    /// spring, damped-spring or orbit.
+    /// spring, damped-spring, orbit, or one whose bodies turn: spin-up, angular-drag or
+    /// hanging-box.
     #[arg(long, value_name = "NAME", default_value = "spring")]
     problem: String,
     #[command(flatten)]
@@ -283,16 +285,17 @@ fn run_work_precision(args: WorkPrecisionArgs, verbosity: Verbosity) -> Result<(
             ("samples", samples.to_string()),
         ],
     );
-    let chart = plots::work_precision_chart(kind.name(), reference.t_end(), &rows)?;
+    let chart = plots::work_precision_chart(kind, reference.t_end(), &rows)?;
     let png = plots::encode(&chart, &provenance)?;
     let paths = [
         write(&dir, "work-precision.csv", &csv_bytes)?,
         write(&dir, "work-precision.png", &png)?,
     ];
     let mut text = format!(
-        "work-precision on `{}` to t = {} (error = max over bodies of |r - r_exact|; time = median of {samples} samples of at least 10 ms)\n\n",
+        "work-precision on `{}` to t = {} (error = {}; time = median of {samples} samples of at least 10 ms)\n\n",
         kind.name(),
-        reference.t_end()
+        reference.t_end(),
+        kind.error_measure()
     );
     text.push_str(&work_precision::format_summary(&rows));
     text.push('\n');

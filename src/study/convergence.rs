@@ -6,7 +6,7 @@ use std::io::{self, Write};
 
 use crate::sim::{IntegratorKind, Stepper};
 
-use super::reference::ReferenceProblem;
+use super::reference::{ReferenceKind, ReferenceProblem};
 
 /// The header of the CSV that [`write_csv`] writes.
 pub const CSV_HEADER: &str = "integrator,nominal_order,steps,h,error,observed_order";
@@ -42,8 +42,9 @@ pub struct ConvergenceRow {
     pub steps: u64,
     /// The step size h = t_end / steps.
     pub h: f64,
-    /// The largest, over the bodies, of the position error |r - r_exact| at the final
-    /// time (infinite when the run blew up).
+    /// The largest, over the bodies, of the position error |r - r_exact| (and, for a
+    /// problem whose bodies turn, of the angle error |θ - θ_exact|) at the final time
+    /// (infinite when the run blew up).
     pub error: f64,
     /// log2(e_prev / e) against the level before, when both errors are finite and above
     /// the floor.
@@ -78,6 +79,8 @@ impl ConvergenceSeries {
 pub struct ConvergenceTable {
     /// The reference problem's name.
     pub problem: &'static str,
+    /// The reference problem.
+    pub kind: ReferenceKind,
     /// The final time.
     pub t_end: f64,
     /// The error floor the orders ignore.
@@ -124,6 +127,7 @@ pub fn convergence(
         .collect();
     ConvergenceTable {
         problem: problem.name(),
+        kind: problem.kind(),
         t_end: problem.t_end(),
         error_floor: options.error_floor,
         series,
@@ -170,8 +174,10 @@ impl fmt::Display for ConvergenceTable {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(
             f,
-            "convergence on `{}` to t = {}: error = max over bodies of |r - r_exact| at the final time",
-            self.problem, self.t_end
+            "convergence on `{}` to t = {}: error = {} at the final time",
+            self.problem,
+            self.t_end,
+            self.kind.error_measure()
         )?;
         writeln!(
             f,

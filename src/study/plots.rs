@@ -18,6 +18,7 @@ use crate::sim::IntegratorKind;
 
 use super::convergence::ConvergenceTable;
 use super::energy::{spring_energy_theory, EnergyStudy, EnergyTheory};
+use super::reference::ReferenceKind;
 use super::stability::{Boundary, StabilityGrid, StabilityProblem, StabilityTable};
 use super::work_precision::WorkPrecisionRow;
 
@@ -110,11 +111,7 @@ pub fn convergence_chart(table: &ConvergenceTable) -> Result<Pixmap> {
     let y = decade_range(errors).unwrap_or((1e-16, 1.0));
     let mut spec = ChartSpec::new(
         Axis::log10(x.0, x.1, "step h (s)"),
-        Axis::log10(
-            y.0,
-            y.1,
-            format!("position error |r − r_exact| at t = {} (m)", table.t_end),
-        ),
+        Axis::log10(y.0, y.1, table.kind.error_axis(table.t_end)),
     )
     .title(format!(
         "Convergence on {}: halving h divides the error by 2^order",
@@ -152,7 +149,7 @@ pub fn convergence_chart(table: &ConvergenceTable) -> Result<Pixmap> {
 /// log-log, one line with markers per integrator (one marker per h, or per tolerance for
 /// dopri5). Lower left is better; a line's slope is minus its order per unit of cost.
 pub fn work_precision_chart(
-    problem: &str,
+    problem: ReferenceKind,
     t_end: f64,
     rows: &[WorkPrecisionRow],
 ) -> Result<Pixmap> {
@@ -168,11 +165,7 @@ pub fn work_precision_chart(
     }
     let mut spec = ChartSpec::new(
         Axis::log10(x.0, x.1, "run time of one solve (s), median"),
-        Axis::log10(
-            y.0,
-            y.1,
-            format!("position error |r − r_exact| at t = {t_end} (m)"),
-        ),
+        Axis::log10(y.0, y.1, problem.error_axis(t_end)),
     )
     .title(format!("Work–precision on {problem}: lower left is better"))
     .grid(true);

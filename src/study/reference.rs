@@ -1,17 +1,25 @@
 //! Reference problems: systems whose motion has a closed form, to measure integrators
 //! against.
 //!
-//! Each problem is a [`System`] built through the public [`System::new`] API, an initial
-//! [`State`] at t = 0, a suggested final time, and the exact state at any time. The tests
-//! and the studies use them; nothing else in the crate depends on them.
+//! Each problem is a [`System`] built through the public [`System::new`] and
+//! [`System::rigid`] APIs, an initial [`State`] at t = 0, a suggested final time, and the
+//! exact state at any time. The tests and the studies use them; nothing else in the
+//! crate depends on them.
+//!
+//! Three of them turn: a spin-up under a constant torque, angular drag (with and
+//! without a driving torque), and a box hanging from a fixed point by a spring at its
+//! corner, which swings and turns at once. That last one has no closed form; its
+//! reference is classical Runge–Kutta at a step so small that its truncation error is
+//! below round-off (see [`ReferenceKind::HangingBox`]).
 
 use std::f64::consts::PI;
 use std::fmt;
 use std::str::FromStr;
+use std::sync::OnceLock;
 
 use glam::DVec2;
 
-use crate::sim::{Anchor, ForceSpec, Selection, State, System};
+use crate::sim::{Anchor, ForceSpec, IntegratorKind, Selection, Simulation, State, System};
 
 /// The reference problems, by the name the command line uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -31,6 +39,15 @@ pub enum ReferenceKind {
     DampedSpring,
     /// A circular orbit under an inverse-square central force.
     Orbit,
+    /// A constant torque spinning up one body from rest and reversing another's spin:
+    /// the rotational form of the constant acceleration.
+    SpinUp,
+    /// Angular drag, τ = -k·ω: one body's spin decays, another is driven by a constant
+    /// torque towards its terminal spin rate τ/k.
+    AngularDrag,
+    /// A box hanging from a fixed point by a spring at its corner, under gravity: it
+    /// swings and turns, the translation and rotation coupled through the spring.
+    HangingBox,
 }
 
 impl ReferenceKind {
@@ -43,6 +60,9 @@ impl ReferenceKind {
         ReferenceKind::Spring,
         ReferenceKind::DampedSpring,
         ReferenceKind::Orbit,
+        ReferenceKind::SpinUp,
+        ReferenceKind::AngularDrag,
+        ReferenceKind::HangingBox,
     ];
 
     /// Returns the problem's name.
@@ -55,12 +75,42 @@ impl ReferenceKind {
             ReferenceKind::Spring => "spring",
             ReferenceKind::DampedSpring => "damped-spring",
             ReferenceKind::Orbit => "orbit",
+            ReferenceKind::SpinUp => "spin-up",
+            ReferenceKind::AngularDrag => "angular-drag",
+            ReferenceKind::HangingBox => "hanging-box",
         }
     }
 
     /// Returns the names of every problem, for error messages.
     pub fn names() -> Vec<&'static str> {
         Self::ALL.iter().map(|k| k.name()).collect()
+    }
+
+    /// Returns true for the problems whose bodies turn, whose errors measure angles too.
+    pub fn turns(self) -> bool {
+        matches!(
+            self,
+            ReferenceKind::SpinUp | ReferenceKind::AngularDrag | ReferenceKind::HangingBox
+        )
+    }
+
+    /// Returns what the studies' error measures on this problem, for their tables and
+    /// axes: the position error, and for a problem that turns the angle error too.
+    pub fn error_measure(self) -> &'static str {
+        if self.turns() {
+            "max over bodies of |r - r_exact| and |θ - θ_exact|"
+        } else {
+            "max over bodies of |r - r_exact|"
+        }
+    }
+
+    /// Returns the label of the studies' error axis on this problem, at time `t`.
+    pub fn error_axis(self, t: impl fmt::Display) -> String {
+        if self.turns() {
+            format!("error max(|r − r_exact|, |θ − θ_exact|) at t = {t} (m, rad)")
+        } else {
+            format!("position error |r − r_exact| at t = {t} (m)")
+        }
     }
 
     /// Builds the problem.
@@ -73,6 +123,9 @@ impl ReferenceKind {
             ReferenceKind::Spring => spring(),
             ReferenceKind::DampedSpring => damped_spring(),
             ReferenceKind::Orbit => orbit(),
+            ReferenceKind::SpinUp => spin_up(),
+            ReferenceKind::AngularDrag => angular_drag(),
+            ReferenceKind::HangingBox => hanging_box(),
         }
     }
 }
@@ -145,25 +198,32 @@ impl ReferenceProblem {
     /// Returns the exact state at time `t`.
     pub fn exact(&self, t: f64) -> State {
         let s0 = &self.initial;
-        let mut out = State::new(
-            t,
-            Vec::with_capacity(s0.len()),
-            Vec::with_capacity(s0.len()),
-        );
-        for (i, (&r0, &v0)) in s0.pos.iter().zip(&s0.vel).enumerate() {
-            let (r, v) = self.solution.body(i, t - s0.t, r0, v0);
-            out.pos.push(r);
-            out.vel.push(v);
+        if let Solution::Numerical { at_end } = &self.solution {
+            if t == self.t_end {
+                return at_end
+                    .get_or_init(|| reference_run(&self.system, s0, t))
+                    .clone();
+            }
+            return reference_run(&self.system, s0, t);
+        }
+        let mut out = s0.clone();
+        out.t = t;
+        for i in 0..s0.len() {
+            let (r, v) = self.solution.body(i, t - s0.t, s0.pos[i], s0.vel[i]);
+            let (theta, omega) = self.solution.spin(i, t - s0.t, s0.angle[i], s0.omega[i]);
+            (out.pos[i], out.vel[i]) = (r, v);
+            (out.angle[i], out.omega[i]) = (theta, omega);
         }
         out
     }
 
-    /// Returns the error of `state`'s positions against the exact positions at
-    /// `state.t`: the largest, over the bodies, of the Euclidean distance |r - r_exact|.
-    /// Positions are what a frame shows, so the studies measure them.
+    /// Returns the error of `state`'s positions and angles against the exact ones at
+    /// `state.t`: the largest, over the bodies, of the Euclidean distance |r - r_exact|
+    /// and of |θ - θ_exact| (in radians). Positions and orientations are what a frame
+    /// shows, so the studies measure them; a body that does not turn has no angle error.
     pub fn position_error(&self, state: &State) -> f64 {
         let exact = self.exact(state.t);
-        max_distance(&state.pos, &exact.pos)
+        max_distance(&state.pos, &exact.pos).max(max_difference(&state.angle, &exact.angle))
     }
 
     /// Returns the angular frequency ω of an undamped oscillator (the `spring`
@@ -177,11 +237,50 @@ impl ReferenceProblem {
         }
     }
 
-    /// Returns the largest, over the bodies, of |v - v_exact| at `state.t`.
+    /// Returns the largest, over the bodies, of |v - v_exact| and |ω - ω_exact| at
+    /// `state.t`.
     pub fn velocity_error(&self, state: &State) -> f64 {
         let exact = self.exact(state.t);
-        max_distance(&state.vel, &exact.vel)
+        max_distance(&state.vel, &exact.vel).max(max_difference(&state.omega, &exact.omega))
     }
+}
+
+/// Returns max_i |a_i - b_i| of two lists of angles or angular velocities; a
+/// non-finite difference makes the result infinite.
+fn max_difference(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).fold(0.0, |worst: f64, (x, y)| {
+        let d = (x - y).abs();
+        if d.is_finite() {
+            worst.max(d)
+        } else {
+            f64::INFINITY
+        }
+    })
+}
+
+/// The step of the reference runs of problems without a closed form: rk4's error per
+/// unit time is about (h·ω_max)^4 times the solution's size, with ω_max the fastest
+/// rate of the motion; at h = 10⁻⁵ and ω_max ~ 10 that is 10⁻¹⁶, below the round-off
+/// of the 10⁵ steps of a unit of time (about √(10⁵)·ε·|y| ~ 10⁻¹⁴).
+pub const REFERENCE_STEP: f64 = 1e-5;
+
+/// Integrates `system` from `initial` to `t` with rk4 at [`REFERENCE_STEP`] (the last
+/// step shortened to land on `t`), for problems without a closed form.
+fn reference_run(system: &System, initial: &State, t: f64) -> State {
+    let span = t - initial.t;
+    let steps = (span / REFERENCE_STEP).ceil().max(1.0);
+    let mut sim = Simulation::new(
+        system.clone(),
+        initial.clone(),
+        IntegratorKind::Rk4,
+        span / steps,
+    );
+    // A smooth problem of bounded energy stays finite; if it did not, the non-finite
+    // state itself makes every error against it infinite, which the studies report.
+    let _ = sim.run_steps(steps as u64);
+    let mut out = sim.state().clone();
+    out.t = t;
+    out
 }
 
 /// Returns max_i |a_i - b_i|; a non-finite distance makes the result infinite.
@@ -220,6 +319,14 @@ enum Solution {
     /// A circular orbit about c with angular rate Ω = √(μ/R³): the initial offset and
     /// velocity turn by the angle Ω·t, r = c + Rot(Ωt)·(r0 - c), v = Rot(Ωt)·v0.
     Circle { centre: DVec2, rate: f64 },
+    /// Bodies at rest whose spins obey ω' = α - λ·ω, one pair (α, λ) per body: with
+    /// λ = 0 a constant angular acceleration, θ = θ0 + ω0·t + α·t²/2, ω = ω0 + α·t;
+    /// with λ > 0, terminal spin ω_T = α/λ and ω = ω_T + (ω0 - ω_T)·e^(-λt),
+    /// θ = θ0 + ω_T·t + (ω0 - ω_T)·(1 - e^(-λt))/λ.
+    Spin { rates: Vec<(f64, f64)> },
+    /// No closed form: the reference is a fine rk4 run ([`reference_run`]), the one at
+    /// the final time computed once.
+    Numerical { at_end: OnceLock<State> },
 }
 
 impl Solution {
@@ -261,7 +368,31 @@ impl Solution {
                 let turn = DVec2::from_angle(rate * t);
                 (*centre + turn.rotate(r0 - *centre), turn.rotate(v0))
             }
+            // No force moves these centres of mass.
+            Solution::Spin { .. } | Solution::Numerical { .. } => (r0 + v0 * t, v0),
         }
+    }
+
+    /// Returns the exact angle and angular velocity of body `i` a time `t` after
+    /// (θ0, ω0): unchanged but for the problems that turn.
+    fn spin(&self, i: usize, t: f64, theta0: f64, omega0: f64) -> (f64, f64) {
+        let Solution::Spin { rates } = self else {
+            return (theta0 + omega0 * t, omega0);
+        };
+        let (alpha, lambda) = rates[i];
+        if lambda == 0.0 {
+            // θ = θ0 + ω0·t + α·t²/2, ω = ω0 + α·t.
+            return (
+                theta0 + omega0 * t + 0.5 * alpha * t * t,
+                omega0 + alpha * t,
+            );
+        }
+        let terminal = alpha / lambda;
+        // 1 - e^(-λt), computed without cancellation for small λt.
+        let gone = -(-lambda * t).exp_m1();
+        let omega = terminal + (omega0 - terminal) * (1.0 - gone);
+        let theta = theta0 + terminal * t + (omega0 - terminal) * (gone / lambda);
+        (theta, omega)
     }
 }
 
@@ -465,6 +596,116 @@ fn orbit() -> ReferenceProblem {
         solution: Solution::Circle {
             centre,
             rate: (mu / (radius * radius * radius)).sqrt(),
+        },
+    }
+}
+
+/// Returns a system of bodies of the given masses and moments of inertia, with their
+/// centres of mass at the origins of their body coordinates.
+fn rigid(mass: Vec<f64>, inertia: Vec<f64>, forces: &[ForceSpec]) -> System {
+    let centre = vec![DVec2::ZERO; mass.len()];
+    System::rigid(mass, inertia, centre, forces)
+}
+
+/// A motor's constant torque τ = 0.6 on two bodies at rest: body 0 (I = 0.2) spins up
+/// from rest, α = 3; body 1 (I = 0.4) starts spinning backwards at ω0 = -2 and is
+/// turned round, α = 1.5. Every method of order two or more integrates a constant
+/// angular acceleration exactly, as it does the constant acceleration.
+fn spin_up() -> ReferenceProblem {
+    let tau = 0.6;
+    let inertia = vec![0.2, 0.4];
+    let system = rigid(
+        vec![1.0, 2.0],
+        inertia.clone(),
+        &[ForceSpec::Torque {
+            tau,
+            bodies: Selection::All,
+        }],
+    );
+    let mut initial = State::new(0.0, vec![DVec2::ZERO, DVec2::X], vec![DVec2::ZERO; 2]);
+    initial.angle = vec![0.0, 0.5];
+    initial.omega = vec![0.0, -2.0];
+    ReferenceProblem {
+        kind: ReferenceKind::SpinUp,
+        system,
+        initial,
+        t_end: 2.0,
+        solution: Solution::Spin {
+            rates: inertia.iter().map(|i| (tau / i, 0.0)).collect(),
+        },
+    }
+}
+
+/// Angular drag k = 0.5 on two bodies: body 0 (I = 0.25) spins down from ω0 = 8 with
+/// rate λ = k/I = 2, ω = ω0·e^(-λt); body 1 (I = 0.5, λ = 1) is driven from rest by a
+/// torque τ = 2 towards its terminal spin τ/k = 4.
+fn angular_drag() -> ReferenceProblem {
+    let k = 0.5;
+    let (inertia, tau) = (vec![0.25, 0.5], 2.0);
+    let system = rigid(
+        vec![1.0, 1.0],
+        inertia.clone(),
+        &[
+            ForceSpec::AngularDrag {
+                k,
+                bodies: Selection::All,
+            },
+            ForceSpec::Torque {
+                tau,
+                bodies: only(1),
+            },
+        ],
+    );
+    let mut initial = State::new(0.0, vec![DVec2::ZERO, DVec2::X], vec![DVec2::ZERO; 2]);
+    initial.angle = vec![0.25, 0.0];
+    initial.omega = vec![8.0, 0.0];
+    ReferenceProblem {
+        kind: ReferenceKind::AngularDrag,
+        system,
+        initial,
+        t_end: 2.0,
+        solution: Solution::Spin {
+            rates: vec![(0.0, k / inertia[0]), (tau / inertia[1], k / inertia[1])],
+        },
+    }
+}
+
+/// A 0.6 × 0.3 box of mass 1 (I = M·(w² + h²)/12 = 0.0375) hanging by an undamped
+/// spring (k = 20, rest length 0.2) from its corner (0.3, 0.15) to the origin, under
+/// gravity. Let go tilted by 0.4 rad and off to the side, it swings and turns, the
+/// spring's torque about the centre of mass coupling the two: a problem with every
+/// part of the rigid-body equations and no closed form.
+fn hanging_box() -> ReferenceProblem {
+    let (m, w, h) = (1.0, 0.6, 0.3);
+    let inertia = m * (w * w + h * h) / 12.0;
+    let system = rigid(
+        vec![m],
+        vec![inertia],
+        &[
+            ForceSpec::Spring {
+                a: 0,
+                b: Anchor::Point(DVec2::ZERO),
+                stiffness: 20.0,
+                rest_length: 0.2,
+                damping: 0.0,
+                a_at: Some(DVec2::new(0.5 * w, 0.5 * h)),
+                b_at: None,
+            },
+            ForceSpec::Gravity {
+                g: DVec2::new(0.0, -9.81),
+                bodies: Selection::All,
+            },
+        ],
+    );
+    let mut initial = State::new(0.0, vec![DVec2::new(0.2, -0.6)], vec![DVec2::ZERO]);
+    initial.angle = vec![0.4];
+    ReferenceProblem {
+        kind: ReferenceKind::HangingBox,
+        system,
+        initial,
+        t_end: 1.0,
+        solution: Solution::Numerical {
+            at_end: OnceLock::new(),
         },
     }
 }

@@ -12,6 +12,7 @@ mod perf;
 mod properties;
 mod render_cli;
 mod resume;
+mod rotation;
 mod shards;
 mod studies;
 mod util;
