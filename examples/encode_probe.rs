@@ -44,6 +44,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             t: 0.0,
             pos: &state.pos,
             vel: &[],
+            angle: None,
             force: None,
             trail: None,
             traces: None,

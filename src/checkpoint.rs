@@ -2,8 +2,8 @@
 //! shard of frames A..B, on this machine or another) starts there instead of at t = 0.
 //!
 //! A checkpoint holds the exact f64 bits of the state after frame k: the step count and
-//! t, every position and velocity, and, when trails are drawn, the positions at every
-//! earlier frame (a trail needs them all). A restored simulation continues bit for bit
+//! t, every position, velocity, angle and angular velocity, and, when trails are drawn,
+//! the positions at every earlier frame (a trail needs them all). A restored simulation continues bit for bit
 //! as the original run, so a shard's frames equal a single run's byte for byte.
 //!
 //! A checkpoint is keyed by the scene's hash (which covers `--set` overrides), the
@@ -14,9 +14,11 @@
 //! checkpoints are refused with a message rather than silently wrong.
 //!
 //! File format (`checkpoint-<key>-<frame>.bin`, written atomically): the line
-//! `physframes checkpoint 1`, one line of JSON with the key fields and sizes, then the
-//! payload as little-endian f64: positions (x, y per body), velocities, then the trail
-//! (x, y per body per earlier frame). The JSON records the payload's SHA-256.
+//! `physframes checkpoint 2`, one line of JSON with the key fields and sizes, then the
+//! payload as little-endian f64: positions (x, y per body), velocities, angles and
+//! angular velocities (θ, ω per body), then the trail (x, y per body per earlier
+//! frame). The JSON records the payload's SHA-256. (Version 1, before bodies turned,
+//! had no θ and ω; its files are not read.)
 
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
@@ -39,7 +41,7 @@ const METHODS_WITHOUT_STEP_STATE: &[&str] =
     &["euler", "symplectic-euler", "midpoint", "heun", "rk4"];
 
 /// The first line of every checkpoint file.
-const MAGIC: &str = "physframes checkpoint 1\n";
+const MAGIC: &str = "physframes checkpoint 2\n";
 
 /// Where checkpoints live and how often a render writes them.
 #[derive(Clone, Debug)]
@@ -109,6 +111,8 @@ pub struct Checkpoint {
     pub t: f64,
     pub pos: Vec<DVec2>,
     pub vel: Vec<DVec2>,
+    pub angle: Vec<f64>,
+    pub omega: Vec<f64>,
     /// Positions at frames 0 .. frame (not including it), when trails are on.
     pub trail: Vec<Arc<[DVec2]>>,
 }
@@ -137,6 +141,8 @@ impl Checkpoint {
             t: state.t,
             pos: state.pos.clone(),
             vel: state.vel.clone(),
+            angle: state.angle.clone(),
+            omega: state.omega.clone(),
             trail: history
                 .iter()
                 .take(usize::try_from(frame).unwrap_or(usize::MAX))
@@ -147,7 +153,9 @@ impl Checkpoint {
 
     /// Rebuilds the simulation of `scene` at this checkpoint.
     pub fn restore(&self, scene: &Scene, integrator: IntegratorKind) -> Simulation {
-        let state = State::new(self.t, self.pos.clone(), self.vel.clone());
+        let mut state = State::new(self.t, self.pos.clone(), self.vel.clone());
+        state.angle.clone_from(&self.angle);
+        state.omega.clone_from(&self.omega);
         Simulation::restore(
             scene.system(),
             state,
@@ -160,13 +168,17 @@ impl Checkpoint {
 
     /// Serialises the checkpoint.
     fn to_bytes(&self, key: &RunKey) -> Vec<u8> {
-        let mut payload = Vec::with_capacity(32 * self.pos.len() * (2 + self.trail.len()));
+        let mut payload = Vec::with_capacity(16 * self.pos.len() * (3 + self.trail.len()));
         let mut put = |v: &DVec2| {
             payload.extend_from_slice(&v.x.to_bits().to_le_bytes());
             payload.extend_from_slice(&v.y.to_bits().to_le_bytes());
         };
         self.pos.iter().for_each(&mut put);
         self.vel.iter().for_each(&mut put);
+        // (θ, ω) of each body, as one pair.
+        for (theta, omega) in self.angle.iter().zip(&self.omega) {
+            put(&DVec2::new(*theta, *omega));
+        }
         for frame in &self.trail {
             frame.iter().for_each(&mut put);
         }
@@ -199,7 +211,7 @@ impl Checkpoint {
         let n = key.bodies;
         let frames = usize::try_from(header.trail_frames).ok()?;
         let expected_frames = if key.trails { header.frame } else { 0 };
-        if header.trail_frames != expected_frames || payload.len() != 16 * n * (2 + frames) {
+        if header.trail_frames != expected_frames || payload.len() != 16 * n * (3 + frames) {
             return None;
         }
         let vectors: Vec<DVec2> = payload
@@ -216,7 +228,9 @@ impl Checkpoint {
             t: f64::from_bits(header.t_bits),
             pos: vectors[..n].to_vec(),
             vel: vectors[n..2 * n].to_vec(),
-            trail: vectors[2 * n..]
+            angle: vectors[2 * n..3 * n].iter().map(|p| p.x).collect(),
+            omega: vectors[2 * n..3 * n].iter().map(|p| p.y).collect(),
+            trail: vectors[3 * n..]
                 .chunks_exact(n.max(1))
                 .map(Arc::from)
                 .collect(),

@@ -72,6 +72,8 @@ struct Job {
     pos: Arc<[DVec2]>,
     /// Velocities, when some body shows its velocity arrow; empty otherwise.
     vel: Vec<DVec2>,
+    /// Angles, when some body turns.
+    angle: Option<Vec<f64>>,
     force: Option<Vec<DVec2>>,
     /// Positions at frames 0 ..= index, when trails are on.
     trail: Option<PointHistory>,
@@ -184,6 +186,7 @@ fn render_full(
     // Only what the frames show is copied out of the simulation for them.
     let needs_forces = renderer.needs_forces();
     let needs_velocities = renderer.needs_velocities();
+    let needs_angles = renderer.needs_angles();
     let opaque = renderer.frames_are_opaque();
     let trails = scene.render.trails;
 
@@ -340,6 +343,7 @@ fn render_full(
                 } else {
                     Vec::new()
                 },
+                angle: needs_angles.then(|| state.angle.clone()),
                 force,
                 // Snapshots of the shared histories: an `Arc` and a length each.
                 trail: trails.then(|| history.history().clone()),
@@ -464,6 +468,7 @@ fn draw_and_write(
         t: job.t,
         pos: &job.pos,
         vel: &job.vel,
+        angle: job.angle.as_deref(),
         force: job.force.as_deref(),
         trail: job.trail.as_ref(),
         traces: job.traces.as_ref(),

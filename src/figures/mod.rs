@@ -109,6 +109,7 @@ pub fn render_frame(scene: &Scene, frame: u64) -> Result<Pixmap> {
         t: state.t,
         pos: &state.pos,
         vel: &state.vel,
+        angle: renderer.needs_angles().then_some(state.angle.as_slice()),
         force: renderer.needs_forces().then_some(force.as_slice()),
         trail: scene.render.trails.then_some(trail.history()),
         traces: traces.as_ref().map(|t| t.history()),

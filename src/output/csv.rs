@@ -5,10 +5,12 @@ use std::io::Write;
 use crate::scene::Scene;
 use crate::sim::{BlowUp, Simulation};
 
-/// Writes the trajectory of every body as CSV: a header `t,body,x,y,vx,vy`, then one
-/// row per body at each frame time (or after every step when `every_step`). Numbers are
-/// in Rust's shortest round-trip form, so they parse back to the same f64. x and y are
-/// the centre of mass.
+/// Writes the trajectory of every body as CSV: a header
+/// `t,body,x,y,vx,vy,angle,omega`, then one row per body at each frame time (or after
+/// every step when `every_step`). Numbers are in Rust's shortest round-trip form, so
+/// they parse back to the same f64. x and y are the centre of mass; `angle` is the
+/// body's orientation θ in radians (counter-clockwise, not wrapped to a turn) and
+/// `omega` its angular velocity ω = dθ/dt in rad/s, for every body, turning or not.
 ///
 /// Returns the blow-up, if the state stopped being finite; the rows before it are
 /// written.
@@ -19,7 +21,7 @@ pub fn write_trajectory(
 ) -> std::io::Result<Option<BlowUp>> {
     let names = scene.body_names();
     let mut sim = scene.simulation();
-    writeln!(out, "t,body,x,y,vx,vy")?;
+    writeln!(out, "{HEADER}")?;
     write_rows(&sim, &names, out)?;
     let frames = scene.render.frame_count;
     if every_step {
@@ -57,10 +59,18 @@ pub fn write_trajectory(
     Ok(None)
 }
 
+/// The header of a trajectory CSV.
+pub const HEADER: &str = "t,body,x,y,vx,vy,angle,omega";
+
 fn write_rows(sim: &Simulation, names: &[&str], out: &mut impl Write) -> std::io::Result<()> {
     let s = sim.state();
-    for ((name, p), v) in names.iter().zip(&s.pos).zip(&s.vel) {
-        writeln!(out, "{},{},{},{},{},{}", s.t, name, p.x, p.y, v.x, v.y)?;
+    for (i, name) in names.iter().enumerate() {
+        let (p, v) = (s.pos[i], s.vel[i]);
+        writeln!(
+            out,
+            "{},{},{},{},{},{},{},{}",
+            s.t, name, p.x, p.y, v.x, v.y, s.angle[i], s.omega[i]
+        )?;
     }
     Ok(())
 }

@@ -10,12 +10,22 @@ use super::camera::Camera;
 use super::clip::ClipRect;
 use crate::history::PointHistory;
 use crate::scene::{Body, Rgba, Shape};
+use crate::sim::rigid::rotate;
 
 /// How a body is drawn, prepared once per render in pixel units.
+///
+/// A body that never turns is prepared at its (constant) angle, and drawn like any
+/// other. A body that turns is prepared at angle 0 and drawn turned by its angle at
+/// each frame ([`BodyLook::draw_turned`]); a turning circle, which looks the same at
+/// every angle, shows its angle with a radius line from its centre to its rim.
 #[derive(Clone, Debug)]
 pub struct BodyLook {
     /// The outline around the centre of mass, in pixels (y down).
     outline: Option<Path>,
+    /// True when the body turns during the run, so that each frame gives its angle.
+    turns: bool,
+    /// For a circle that turns, the length of its orientation line in pixels.
+    marker: Option<f32>,
     /// The point masses' discs and the bars joining them to the centre, for bodies of
     /// point masses.
     points: Option<(Path, Path)>,
@@ -42,21 +52,42 @@ fn darker(c: Rgba) -> Rgba {
 }
 
 impl BodyLook {
-    /// Prepares the look of a body for a camera.
+    /// Prepares the look of a body for a camera: turned by its constant angle when it
+    /// never turns, at angle 0 when it does.
     pub fn new(body: &Body, camera: &Camera) -> Self {
         let s = camera.scale() as f32;
+        // A body that never turns is drawn at its initial angle: its points are turned
+        // once, here, in the world (R(θ)·p, counter-clockwise), then taken to pixels.
+        let turn = (!body.turns && body.angle != 0.0).then(|| body.angle.sin_cos());
         let px = |p: DVec2| {
+            let p = turn.map_or(p, |sc| rotate(sc, p));
             let (x, y) = camera.to_pixel_vector(p);
             (x, y)
         };
         let mut reach = 0.0f32;
         let mut outline = None;
         let mut points = None;
+        let mut marker = None;
         match &body.shape {
             Shape::Circle { radius } => {
                 let r = (*radius as f32 * s).max(0.5);
                 reach = r;
                 outline = PathBuilder::from_circle(0.0, 0.0, r);
+                marker = body.turns.then_some(r);
+            }
+            Shape::Box { width, height } if turn.is_some() => {
+                // A box turned once for good is the polygon of its corners.
+                let (w, h) = (0.5 * width, 0.5 * height);
+                let corners =
+                    [(-w, -h), (w, -h), (w, h), (-w, h)].map(|(x, y)| px(DVec2::new(x, y)));
+                reach = 0.5 * ((*width * *width + *height * *height).sqrt() as f32 * s).max(1.0);
+                let mut pb = PathBuilder::new();
+                pb.move_to(corners[0].0, corners[0].1);
+                for (x, y) in &corners[1..] {
+                    pb.line_to(*x, *y);
+                }
+                pb.close();
+                outline = pb.finish();
             }
             Shape::Box { width, height } => {
                 let (w, h) = ((*width as f32 * s).max(1.0), (*height as f32 * s).max(1.0));
@@ -100,6 +131,8 @@ impl BodyLook {
         }
         BodyLook {
             outline,
+            turns: body.turns,
+            marker,
             points,
             fill: color(body.color, 1.0),
             edge: color(darker(body.color), 1.0),
@@ -113,6 +146,19 @@ impl BodyLook {
     /// Returns a radius in pixels, around the centre of mass, that encloses the shape.
     pub fn reach(&self) -> f32 {
         self.reach
+    }
+
+    /// Returns true when the body turns during the run, so that it is drawn with
+    /// [`BodyLook::draw_turned`] at each frame's angle.
+    pub fn turns(&self) -> bool {
+        self.turns
+    }
+
+    /// Returns true when the look, turned, is the look itself plus its orientation
+    /// line: a circle. Such a look may still be stamped from a sprite, and then needs
+    /// only [`BodyLook::draw_orientation`] over it.
+    pub fn turns_by_marker(&self) -> bool {
+        self.marker.is_some()
     }
 
     /// Returns true when the look is an outline alone (a circle, box or polygon),
@@ -174,7 +220,62 @@ impl BodyLook {
         if self.outline.is_some() {
             self.draw_outline(pixmap, x, y, Some(self.fill), Some(self.edge));
         }
-        self.draw_points(pixmap, x, y);
+        self.draw_points(pixmap, x, y, Transform::from_translate(x, y));
+    }
+
+    /// Draws a body that turns, with its centre of mass at pixel (x, y) and turned by
+    /// `theta` radians counter-clockwise in the world.
+    ///
+    /// The world's y axis points up and the image's down, so a world rotation R(θ)
+    /// is, on pixel offsets (X, Y) from the centre, X' = cos θ·X + sin θ·Y and
+    /// Y' = -sin θ·X + cos θ·Y.
+    pub fn draw_turned(&self, pixmap: &mut Pixmap, x: f32, y: f32, theta: f64) {
+        if self.marker.is_some() {
+            self.draw(pixmap, x, y);
+            self.draw_orientation(pixmap, x, y, theta);
+            return;
+        }
+        let (s, c) = theta.sin_cos();
+        let (s, c) = (s as f32, c as f32);
+        let at = Transform::from_row(c, -s, s, c, x, y);
+        if let Some(outline) = &self.outline {
+            let mut paint = Paint {
+                anti_alias: true,
+                ..Paint::default()
+            };
+            paint.set_color(self.fill);
+            pixmap.fill_path(outline, &paint, FillRule::Winding, at, None);
+            paint.set_color(self.edge);
+            pixmap.stroke_path(outline, &paint, &outline_stroke(), at, None);
+        }
+        self.draw_points(pixmap, x, y, at);
+    }
+
+    /// Draws a turning circle's orientation: a line from its centre at pixel (x, y) to
+    /// its rim in the direction of its body x axis, turned by `theta` (the world's
+    /// counter-clockwise, so (cos θ, -sin θ) in pixels).
+    pub fn draw_orientation(&self, pixmap: &mut Pixmap, x: f32, y: f32, theta: f64) {
+        let Some(r) = self.marker else {
+            return;
+        };
+        let (s, c) = theta.sin_cos();
+        let mut pb = PathBuilder::new();
+        pb.move_to(x, y);
+        pb.line_to(x + r * c as f32, y - r * s as f32);
+        let Some(line) = pb.finish() else {
+            return;
+        };
+        let mut paint = Paint {
+            anti_alias: true,
+            ..Paint::default()
+        };
+        paint.set_color(self.edge);
+        let stroke = Stroke {
+            width: 1.5,
+            line_cap: LineCap::Round,
+            ..Stroke::default()
+        };
+        pixmap.stroke_path(&line, &paint, &stroke, Transform::identity(), None);
     }
 
     /// Draws an outline body's fill, then its edge, each in the colour given (or not
@@ -199,19 +300,14 @@ impl BodyLook {
             }
             if let Some(edge) = edge {
                 paint.set_color(edge);
-                let stroke = Stroke {
-                    width: 1.5,
-                    line_join: LineJoin::Round,
-                    ..Stroke::default()
-                };
-                pixmap.stroke_path(outline, &paint, &stroke, at, None);
+                pixmap.stroke_path(outline, &paint, &outline_stroke(), at, None);
             }
         }
     }
 
-    /// Draws a body of point masses: bars, discs and the centre-of-mass marker.
-    fn draw_points(&self, pixmap: &mut Pixmap, x: f32, y: f32) {
-        let at = Transform::from_translate(x, y);
+    /// Draws a body of point masses: bars, discs (placed by `at`, which takes the
+    /// body's offsets to pixels) and the centre-of-mass marker at pixel (x, y).
+    fn draw_points(&self, pixmap: &mut Pixmap, x: f32, y: f32, at: Transform) {
         let mut paint = Paint {
             anti_alias: true,
             ..Paint::default()
@@ -262,6 +358,15 @@ impl BodyLook {
             ..Stroke::default()
         };
         pixmap.stroke_path(&path, &paint, &stroke, Transform::identity(), None);
+    }
+}
+
+/// The stroke of every outline: 1.5 pixels, with round joins.
+fn outline_stroke() -> Stroke {
+    Stroke {
+        width: 1.5,
+        line_join: LineJoin::Round,
+        ..Stroke::default()
     }
 }
 

@@ -48,6 +48,9 @@ pub struct FrameView<'a> {
     /// Centre-of-mass velocities; may be empty when no body shows its velocity
     /// ([`Renderer::needs_velocities`]).
     pub vel: &'a [DVec2],
+    /// Every body's angle θ, when some body turns ([`Renderer::needs_angles`]); a body
+    /// that never turns is drawn at its constant angle whatever this holds.
+    pub angle: Option<&'a [f64]>,
     /// Net forces, when some body shows its force arrow.
     pub force: Option<&'a [DVec2]>,
     /// The positions at every frame so far (0 ..= index), when trails are on: a
@@ -198,12 +201,16 @@ impl Renderer {
             &[]
         };
         for (i, b) in shown.iter().enumerate() {
+            // A look that never turns is prepared at its body's angle; one that turns
+            // at angle 0, whatever the body's first angle.
             let same = i > 0 && {
                 let a = &shown[i - 1];
                 a.shape == b.shape
                     && a.color == b.color
                     && a.show_velocity == b.show_velocity
                     && a.show_force == b.show_force
+                    && a.turns == b.turns
+                    && (a.turns || a.angle == b.angle)
             };
             if !same {
                 looks.push(Look {
@@ -217,7 +224,10 @@ impl Renderer {
         }
         if drawing == BodyDrawing::Sprites {
             for (look, n) in looks.iter_mut().zip(users) {
-                if n >= SPRITE_MIN_BODIES && look.body.is_outline() {
+                // A turning look is stamped only when turning adds a line over the
+                // same disc: a circle.
+                let stamps = !look.body.turns() || look.body.turns_by_marker();
+                if n >= SPRITE_MIN_BODIES && look.body.is_outline() && stamps {
                     look.sprite = SpriteSheet::new(&look.body);
                 }
             }
@@ -283,6 +293,12 @@ impl Renderer {
     /// otherwise [`FrameView::vel`] may be empty.
     pub fn needs_velocities(&self) -> bool {
         self.looks.iter().any(|l| l.body.show_velocity)
+    }
+
+    /// Returns true when some body turns during the run, so frames need every body's
+    /// angle ([`FrameView::angle`]).
+    pub fn needs_angles(&self) -> bool {
+        self.looks.iter().any(|l| l.body.turns())
     }
 
     /// Returns true when some body shows its net force, so frames need forces.
@@ -409,7 +425,7 @@ impl Renderer {
         pixmap: &mut Pixmap,
         mut damage: Option<&mut Damage>,
     ) {
-        for (p, &look) in frame.pos.iter().zip(&self.look_of) {
+        for (i, (p, &look)) in frame.pos.iter().zip(&self.look_of).enumerate() {
             let look = &self.looks[look as usize];
             let (x, y) = self.camera.to_pixel(*p);
             // Bodies entirely outside the image are skipped, and so are positions
@@ -417,16 +433,18 @@ impl Renderer {
             if look.body.is_outside(x, y, self.width, self.height) {
                 continue;
             }
+            // A body that turns is drawn at this frame's angle.
+            let angle = frame.angle.filter(|_| look.body.turns()).map(|a| a[i]);
             if let Some(damage) = damage.as_deref_mut().filter(|d| !d.is_whole()) {
                 match &look.sprite {
                     // A stamp changes exactly its sprite's rectangle.
-                    Some(sprite) => {
+                    Some(sprite) if angle.is_none() => {
                         damage.add_rect(sprite.footprint(x, y), self.width, self.height)
                     }
-                    // Everything drawn for a body lies within its reach of (x, y); the
-                    // margin covers the outline's half-width and anti-aliasing (a
-                    // sprite pads by 3 pixels) with a pixel to spare.
-                    None => damage.add_around(
+                    // Everything drawn for a body lies within its reach of (x, y), at
+                    // any angle; the margin covers the outline's half-width and
+                    // anti-aliasing (a sprite pads by 3 pixels) with a pixel to spare.
+                    _ => damage.add_around(
                         x,
                         y,
                         look.body.reach() + DAMAGE_MARGIN,
@@ -435,9 +453,16 @@ impl Renderer {
                     ),
                 }
             }
-            match &look.sprite {
-                Some(sprite) => sprite.stamp(pixmap, x, y),
-                None => look.body.draw(pixmap, x, y),
+            match (&look.sprite, angle) {
+                (Some(sprite), None) => sprite.stamp(pixmap, x, y),
+                // Only a circle's look turns and keeps its sprite: the disc, then its
+                // orientation line.
+                (Some(sprite), Some(theta)) => {
+                    sprite.stamp(pixmap, x, y);
+                    look.body.draw_orientation(pixmap, x, y, theta);
+                }
+                (None, Some(theta)) => look.body.draw_turned(pixmap, x, y, theta),
+                (None, None) => look.body.draw(pixmap, x, y),
             }
         }
     }

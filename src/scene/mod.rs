@@ -11,6 +11,7 @@ mod color;
 mod diagnostic;
 pub mod expr;
 mod frontend;
+mod inertia;
 pub mod layers;
 mod overrides;
 pub mod raw;
@@ -160,7 +161,24 @@ pub struct Body {
     pub position: DVec2,
     /// The initial velocity of the centre of mass.
     pub velocity: DVec2,
-    /// What to draw, relative to the centre of mass.
+    /// The initial orientation θ in radians, counter-clockwise: the body's points p
+    /// (body coordinates) start at position + R(θ)·(p - centre).
+    pub angle: f64,
+    /// The initial angular velocity ω = dθ/dt.
+    pub angular_velocity: f64,
+    /// The moment of inertia I about the centre of mass: from the shape and mass, or
+    /// the scene's `inertia`. Zero only for a body of point masses all at one point,
+    /// which cannot turn.
+    pub inertia: f64,
+    /// The centre of mass c in body coordinates, the coordinates in which the scene
+    /// writes polygon points, point-mass offsets, forces' `at` and springs' anchors
+    /// (a circle's and a box's centre is their origin).
+    pub centre: DVec2,
+    /// True when something may turn the body during the run (it spins at the start, or
+    /// a torque, a force off its centre of mass or a spring anchored off it acts on
+    /// it); the renderer then draws it at each frame's angle.
+    pub turns: bool,
+    /// What to draw, relative to the centre of mass, at angle 0.
     pub shape: Shape,
     pub color: Rgba,
     pub show_velocity: bool,
@@ -225,9 +243,14 @@ impl Scene {
         (self.render.frame_count - 1) * self.render.steps_per_frame
     }
 
-    /// Returns the masses and forces, for the simulation.
+    /// Returns the masses, moments of inertia and forces, for the simulation.
     pub fn system(&self) -> System {
-        System::new(self.bodies.iter().map(|b| b.mass).collect(), &self.forces)
+        System::rigid(
+            self.bodies.iter().map(|b| b.mass).collect(),
+            self.bodies.iter().map(|b| b.inertia).collect(),
+            self.bodies.iter().map(|b| b.centre).collect(),
+            &self.forces,
+        )
     }
 
     /// Returns a simulation of this scene from t = 0 with its integrator, step and
@@ -249,16 +272,32 @@ impl Scene {
 
     /// Returns the state at t = 0.
     pub fn initial_state(&self) -> State {
-        State::new(
+        let mut state = State::new(
             0.0,
             self.bodies.iter().map(|b| b.position).collect(),
             self.bodies.iter().map(|b| b.velocity).collect(),
-        )
+        );
+        state.angle = self.bodies.iter().map(|b| b.angle).collect();
+        state.omega = self.bodies.iter().map(|b| b.angular_velocity).collect();
+        state
     }
 
     /// Returns the bodies' names, indexed like the simulation's arrays.
     pub fn body_names(&self) -> Vec<&str> {
         self.bodies.iter().map(|b| b.name.as_str()).collect()
+    }
+}
+
+/// Sets [`Body::turns`] on every body that something may turn during the run: one
+/// that spins at the start, or one on which a torque, a force off its centre of mass
+/// or a spring anchored off it acts.
+pub(crate) fn mark_turning(bodies: &mut [Body], forces: &[ForceSpec]) {
+    let centre: Vec<DVec2> = bodies.iter().map(|b| b.centre).collect();
+    let mut turned = vec![false; bodies.len()];
+    crate::sim::forces::ForceSet::new(forces, bodies.len(), Some(&centre))
+        .mark_torque_targets(&centre, &mut turned);
+    for (body, torqued) in bodies.iter_mut().zip(turned) {
+        body.turns = torqued || body.angular_velocity != 0.0;
     }
 }
 

@@ -141,6 +141,8 @@ impl Validator {
             self.exact_exists(raw.simulation.as_ref(), sim, bodies, forces);
         }
         let hash = hex(&Sha256::digest(text.as_bytes()));
+        let (mut bodies, forces) = (bodies?, forces?);
+        super::mark_turning(&mut bodies, &forces);
         Some(Scene {
             name: name?,
             source: Source {
@@ -150,8 +152,8 @@ impl Validator {
             },
             simulation: simulation?,
             render: render?,
-            bodies: bodies?,
-            forces: forces?,
+            bodies,
+            forces,
             layers: layers?,
         })
     }
@@ -598,6 +600,7 @@ impl Validator {
                 continue;
             };
             members.reserve(count as usize);
+            let inertia = shape.inertia(mass);
             for i in 0..count {
                 let (r, v) = member_state(seed, i, position, velocity);
                 members.push(Body {
@@ -607,6 +610,11 @@ impl Validator {
                     // shape's centroid (nonzero only for polygons).
                     position: r + centroid,
                     velocity: v,
+                    angle: 0.0,
+                    angular_velocity: 0.0,
+                    inertia,
+                    centre: centroid,
+                    turns: false,
                     shape: shape.clone(),
                     color,
                     show_velocity: false,
@@ -797,6 +805,11 @@ impl Validator {
             // the point masses (Equation 8).
             position: position? + centroid,
             velocity: velocity?,
+            angle: 0.0,
+            angular_velocity: 0.0,
+            inertia: shape.inertia(mass),
+            centre: centroid,
+            turns: false,
             shape,
             color: color?,
             show_velocity: b.show_velocity.as_ref().is_some_and(|s| *s.get_ref()),

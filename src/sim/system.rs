@@ -197,16 +197,22 @@ impl System {
     /// coordinates in which forces' `at` points and springs' anchors are given), and
     /// the validated force specifications.
     ///
-    /// Every mass and moment of inertia must be finite and positive.
+    /// Every mass must be finite and positive, and every moment of inertia finite and
+    /// positive or zero; a body whose moment of inertia is zero (point masses all at
+    /// one point) has 1/I taken as 0, and never turns: the scene validator refuses
+    /// any torque on it.
     pub fn rigid(
         mass: Vec<f64>,
         inertia: Vec<f64>,
         centre: Vec<DVec2>,
         forces: &[ForceSpec],
     ) -> Self {
-        debug_assert!(inertia.iter().all(|i| i.is_finite() && *i > 0.0));
+        debug_assert!(inertia.iter().all(|i| i.is_finite() && *i >= 0.0));
         debug_assert!(inertia.len() == mass.len() && centre.len() == mass.len());
-        let inv_inertia = inertia.iter().map(|i| 1.0 / i).collect();
+        let inv_inertia = inertia
+            .iter()
+            .map(|&i| if i > 0.0 { 1.0 / i } else { 0.0 })
+            .collect();
         let rigid = Rigid {
             inertia,
             inv_inertia,

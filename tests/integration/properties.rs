@@ -135,6 +135,7 @@ fn render_all(text: &str) -> Vec<Vec<u8>> {
             t: sim.state().t,
             pos: &sim.state().pos,
             vel: &sim.state().vel,
+            angle: None,
             force: Some(&force),
             trail: Some(trail.history()),
             traces: None,

@@ -283,7 +283,7 @@ fn export_writes_round_trip_numbers_equal_to_the_simulation() {
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     let csv = std::fs::read_to_string(sandbox.path("t.csv")).expect("csv");
     let mut lines = csv.lines();
-    assert_eq!(lines.next(), Some("t,body,x,y,vx,vy"));
+    assert_eq!(lines.next(), Some("t,body,x,y,vx,vy,angle,omega"));
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     assert_eq!(rows.len(), 151 * 2);
     // The last frame's rows equal the library's state bit for bit.
@@ -303,6 +303,8 @@ fn export_writes_round_trip_numbers_equal_to_the_simulation() {
         assert_eq!(num(3), sim.state().pos[i].y);
         assert_eq!(num(4), sim.state().vel[i].x);
         assert_eq!(num(5), sim.state().vel[i].y);
+        // Nothing turns these bodies: every angle and angular velocity stays 0.
+        assert_eq!((num(6), num(7)), (0.0, 0.0));
     }
     // --every-step: the initial state and one row set per step, to standard output.
     let out = sandbox.run(&["export", &example("spring.toml"), "--every-step"]);

@@ -355,6 +355,29 @@ impl ForceSet {
             || self.time_varying.iter().any(|f| f.has_lever(centre))
     }
 
+    /// Sets `turned[i]` for every body that something here can set turning: a
+    /// constant torque on it, a force applied off its centre of mass (`centre` gives
+    /// each body's centre of mass in body coordinates), or a spring anchored off it.
+    pub fn mark_torque_targets(&self, centre: &[DVec2], turned: &mut [bool]) {
+        let n = turned.len();
+        for f in &self.torque {
+            f.bodies.for_each(n, |i| turned[i] = true);
+        }
+        for f in &self.time_varying {
+            if let Some(at) = f.at {
+                f.bodies.for_each(n, |i| turned[i] |= at != centre[i]);
+            }
+        }
+        for s in &self.springs {
+            if let Some((arm_a, arm_b)) = s.arms {
+                turned[s.a as usize] |= arm_a != DVec2::ZERO;
+                if let Anchor::Body(b) = s.b {
+                    turned[b as usize] |= arm_b != DVec2::ZERO;
+                }
+            }
+        }
+    }
+
     /// Returns true when some torque acts: a torque source, or angular drag.
     pub fn has_torques(&self, centre: &[DVec2]) -> bool {
         !self.angular_drag.is_empty() || self.has_torque_sources(centre)
