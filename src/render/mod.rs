@@ -19,6 +19,7 @@ pub mod encode;
 pub mod fastpng;
 pub mod layers;
 pub mod plot;
+pub mod springs;
 pub mod sprite;
 pub mod text;
 pub mod ticks;
@@ -123,6 +124,10 @@ pub struct Renderer {
     arrows: ArrowScales,
     /// Axes, fields, curves, legend and HUD.
     overlay: layers::Overlay,
+    /// The springs, when the scene shows them.
+    springs: Option<springs::Springs>,
+    /// True when some body turns during the run.
+    turning: bool,
     /// The simulated time of the last frame, for the comparison's error strip.
     duration: f64,
 }
@@ -250,6 +255,8 @@ impl Renderer {
             arrow_bodies,
             arrows,
             overlay,
+            springs: springs::Springs::new(scene),
+            turning: scene.bodies.iter().any(|b| b.turns),
             duration: scene.frame_time(r.frame_count - 1).max(f64::MIN_POSITIVE),
         }
     }
@@ -296,9 +303,9 @@ impl Renderer {
     }
 
     /// Returns true when some body turns during the run, so frames need every body's
-    /// angle ([`FrameView::angle`]).
+    /// angle ([`FrameView::angle`]) to draw it or a spring's end on it.
     pub fn needs_angles(&self) -> bool {
-        self.looks.iter().any(|l| l.body.turns())
+        self.turning
     }
 
     /// Returns true when some body shows its net force, so frames need forces.
@@ -340,6 +347,7 @@ impl Renderer {
         );
         self.restore(pixmap, damage);
         let bodies_only = frame.trail.is_none()
+            && self.springs.is_none()
             && frame.compare.is_none()
             && self.arrow_bodies.is_empty()
             && !self.overlay.draws_over_frames();
@@ -379,8 +387,8 @@ impl Renderer {
         }
     }
 
-    /// Draws everything that moves over a copy of the static layer: trails, then
-    /// bodies in index order, then arrows.
+    /// Draws everything that moves over a copy of the static layer: trails, springs,
+    /// then bodies in index order, then arrows.
     fn draw_moving(&self, frame: &FrameView<'_>, pixmap: &mut Pixmap) {
         if let Some(trail) = frame.trail {
             for (i, &look) in self.look_of.iter().enumerate() {
@@ -392,6 +400,9 @@ impl Renderer {
                     i,
                 );
             }
+        }
+        if let Some(springs) = &self.springs {
+            springs.draw(pixmap, &self.camera, &self.clip, frame.pos, frame.angle);
         }
         self.draw_bodies(frame, pixmap, None);
         for &i in &self.arrow_bodies {

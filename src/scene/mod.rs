@@ -109,6 +109,8 @@ pub struct RenderSettings {
     pub hud: bool,
     /// Whether the bodies are drawn (a phase plot may show only their traces).
     pub show_bodies: bool,
+    /// Whether springs are drawn, as coils between their ends, under the bodies.
+    pub show_springs: bool,
     /// Steps between two frames: 1/fps = steps_per_frame·dt.
     pub steps_per_frame: u64,
     /// Number of frames: k = 0 ..= floor(duration·fps).

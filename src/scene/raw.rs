@@ -95,6 +95,7 @@ pub struct RawRender {
     pub force_scale: Option<Spanned<f64>>,
     pub hud: Option<Spanned<bool>>,
     pub show_bodies: Option<Spanned<bool>>,
+    pub show_springs: Option<Spanned<bool>>,
 }
 
 /// The world rectangle a frame shows.
@@ -118,6 +119,9 @@ pub struct RawBody {
     pub color: Option<Spanned<String>>,
     pub show_velocity: Option<Spanned<bool>>,
     pub show_force: Option<Spanned<bool>>,
+    pub angle: Option<Spanned<f64>>,
+    pub angular_velocity: Option<Spanned<f64>>,
+    pub inertia: Option<Spanned<f64>>,
 }
 
 /// One `[[swarm]]`: many bodies alike but for their seeded random initial state.
@@ -132,6 +136,16 @@ pub struct RawSwarm {
     pub velocity: Option<Spanned<RawRange>>,
     pub shape: Option<Spanned<RawShape>>,
     pub color: Option<Spanned<String>>,
+    pub angle: Option<Spanned<RawScalarRange>>,
+    pub angular_velocity: Option<Spanned<RawScalarRange>>,
+}
+
+/// An interval of numbers, from which a swarm draws values uniformly.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawScalarRange {
+    pub min: Spanned<f64>,
+    pub max: Spanned<f64>,
 }
 
 /// A rectangle of 2-D vectors, from which a swarm draws values uniformly.
@@ -199,4 +213,8 @@ pub struct RawForce {
     #[serde(alias = "center")]
     pub centre: Option<Spanned<RawVec2>>,
     pub strength: Option<Spanned<f64>>,
+    pub tau: Option<Spanned<f64>>,
+    pub at: Option<Spanned<RawVec2>>,
+    pub a_at: Option<Spanned<RawVec2>>,
+    pub b_at: Option<Spanned<RawVec2>>,
 }

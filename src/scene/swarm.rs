@@ -6,7 +6,11 @@
 //! number generators", OOPSLA 2014), with the reference constants of Vigna's
 //! `splitmix64.c`. Its k-th output depends only on the seed and k, so member i of a
 //! swarm takes the outputs 4i + 1 to 4i + 4 (x, y, vx, vy) whatever the swarm's size:
-//! growing `count` adds bodies and leaves the earlier ones where they were.
+//! growing `count` adds bodies and leaves the earlier ones where they were. Angles and
+//! angular velocities, when a swarm draws them, come from a second stream of the same
+//! generator, seeded with seed ⊕ [`SPIN_STREAM`] (outputs 2i + 1 and 2i + 2 of member
+//! i), so a swarm that draws none gives exactly the bodies it gave before bodies
+//! turned.
 
 use glam::DVec2;
 
@@ -50,6 +54,35 @@ impl Uniform2 {
             self.min.y + w * (self.max.y - self.min.y),
         )
     }
+}
+
+/// An interval of numbers from which values are drawn uniformly.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Uniform1 {
+    pub min: f64,
+    pub max: f64,
+}
+
+impl Uniform1 {
+    /// Maps a uniform number u in [0, 1) into the interval: min + u·(max - min).
+    #[inline]
+    pub fn at(&self, u: f64) -> f64 {
+        self.min + u * (self.max - self.min)
+    }
+}
+
+/// The constant a swarm's seed is xored with to seed the stream of its angles and
+/// angular velocities: the first 64 bits of the fractional part of π, so that the two
+/// streams of one seed are unrelated.
+pub const SPIN_STREAM: u64 = 0x243f_6a88_85a3_08d3;
+
+/// Returns the initial angle and angular velocity of member `i` of a swarm seeded with
+/// `seed`: outputs 2i + 1 (θ) and 2i + 2 (ω) of SplitMix64 seeded with
+/// seed ⊕ [`SPIN_STREAM`].
+pub fn member_spin(seed: u64, i: u64, angle: Uniform1, omega: Uniform1) -> (f64, f64) {
+    let stream = seed ^ SPIN_STREAM;
+    let draw = |j: u64| unit(splitmix64(stream, 2 * i + j));
+    (angle.at(draw(1)), omega.at(draw(2)))
 }
 
 /// Returns the initial position and velocity of member `i` of a swarm seeded with

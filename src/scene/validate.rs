@@ -9,9 +9,10 @@ use sha2::{Digest, Sha256};
 use toml::Spanned;
 
 use super::raw::{
-    RawBody, RawForce, RawRange, RawRender, RawScene, RawShape, RawSimulation, RawSwarm, RawVec2,
+    RawBody, RawForce, RawRange, RawRender, RawScalarRange, RawScene, RawShape, RawSimulation,
+    RawSwarm, RawVec2,
 };
-use super::swarm::{member_state, split_member_name, Uniform2};
+use super::swarm::{member_spin, member_state, split_member_name, Uniform1, Uniform2};
 use super::{
     Body, CompareRun, Diagnostic, PointMass, RenderSettings, Rgba, Scene, SceneError, Shape,
     SimulationSettings, Source, View,
@@ -62,6 +63,10 @@ const FORCE_KEYS: &[&str] = &[
     "damping",
     "centre",
     "strength",
+    "tau",
+    "at",
+    "a_at",
+    "b_at",
 ];
 
 /// The force kinds and the keys each takes.
@@ -69,9 +74,22 @@ const FORCE_KINDS: &[(&str, &[&str])] = &[
     ("gravity", &["g", "bodies"]),
     ("drag", &["k", "bodies"]),
     ("quadratic-drag", &["c", "bodies"]),
-    ("force", &["f0", "f1", "bodies"]),
-    ("spring", &["a", "b", "stiffness", "rest_length", "damping"]),
+    ("force", &["f0", "f1", "at", "bodies"]),
+    (
+        "spring",
+        &[
+            "a",
+            "b",
+            "stiffness",
+            "rest_length",
+            "damping",
+            "a_at",
+            "b_at",
+        ],
+    ),
     ("central", &["centre", "strength", "bodies"]),
+    ("torque", &["tau", "bodies"]),
+    ("angular-drag", &["k", "bodies"]),
 ];
 
 impl Validator {
@@ -143,6 +161,7 @@ impl Validator {
         let hash = hex(&Sha256::digest(text.as_bytes()));
         let (mut bodies, forces) = (bodies?, forces?);
         super::mark_turning(&mut bodies, &forces);
+        self.turning_bodies_have_inertia(&raw.body, &bodies)?;
         Some(Scene {
             name: name?,
             source: Source {
@@ -156,6 +175,30 @@ impl Validator {
             forces,
             layers: layers?,
         })
+    }
+
+    /// Rejects a body that something turns but that has no moment of inertia: point
+    /// masses that all sit at its centre of mass (a swarm's shapes always have one).
+    fn turning_bodies_have_inertia(
+        &mut self,
+        raw: &[Spanned<RawBody>],
+        bodies: &[Body],
+    ) -> Option<()> {
+        let mut ok = true;
+        for (r, b) in raw.iter().zip(bodies) {
+            if b.turns && b.inertia == 0.0 {
+                self.error(
+                    Diagnostic::at(
+                        r.span(),
+                        format!("body `{}` is turned but has no moment of inertia", b.name),
+                    )
+                    .label("its point masses all sit at its centre of mass, so I = 0")
+                    .hint("give it `inertia = ...` (kg·m²), or spread its points out"),
+                );
+                ok = false;
+            }
+        }
+        ok.then_some(())
     }
 
     /// Rejects bodies that would span more than a million pixels on screen.
@@ -401,6 +444,7 @@ impl Validator {
         let trails = r.trails.as_ref().is_some_and(|t| *t.get_ref());
         let hud = r.hud.as_ref().is_some_and(|h| *h.get_ref());
         let show_bodies = r.show_bodies.as_ref().is_none_or(|s| *s.get_ref());
+        let show_springs = r.show_springs.as_ref().is_some_and(|s| *s.get_ref());
         let velocity_scale = r
             .velocity_scale
             .as_ref()
@@ -432,6 +476,7 @@ impl Validator {
             trails,
             hud,
             show_bodies,
+            show_springs,
             velocity_scale: velocity_scale.map_or(Some(None), |s| s.map(Some))?,
             force_scale: force_scale.map_or(Some(None), |s| s.map(Some))?,
             steps_per_frame,
@@ -556,6 +601,8 @@ impl Validator {
                 }
             };
             let mass = self.positive(&s.mass, "mass");
+            let angle = self.optional_scalar_range(s.angle.as_ref(), "angle");
+            let spin = self.optional_scalar_range(s.angular_velocity.as_ref(), "angular_velocity");
             let position = self.range(&s.position, "position");
             let velocity = match &s.velocity {
                 Some(v) => self.range(v, "velocity"),
@@ -599,19 +646,35 @@ impl Validator {
                 first += count.unwrap_or(0);
                 continue;
             };
+            let (Some(angle), Some(spin)) = (angle, spin) else {
+                ok = false;
+                first += count;
+                continue;
+            };
             members.reserve(count as usize);
             let inertia = shape.inertia(mass);
             for i in 0..count {
                 let (r, v) = member_state(seed, i, position, velocity);
+                // A swarm that gives no angle or angular velocity draws none: its
+                // members are the bodies it always gave.
+                let (theta, omega) = match (angle, spin) {
+                    (None, None) => (0.0, 0.0),
+                    (angle, spin) => member_spin(
+                        seed,
+                        i,
+                        angle.unwrap_or(Uniform1 { min: 0.0, max: 0.0 }),
+                        spin.unwrap_or(Uniform1 { min: 0.0, max: 0.0 }),
+                    ),
+                };
                 members.push(Body {
                     name: format!("{name}{i}"),
                     mass,
                     // As for a body, the centre of mass is the drawn position plus the
-                    // shape's centroid (nonzero only for polygons).
-                    position: r + centroid,
+                    // shape's centroid (nonzero only for polygons), turned with it.
+                    position: r + turned(theta, centroid),
                     velocity: v,
-                    angle: 0.0,
-                    angular_velocity: 0.0,
+                    angle: theta,
+                    angular_velocity: omega,
                     inertia,
                     centre: centroid,
                     turns: false,
@@ -711,6 +774,31 @@ impl Validator {
     }
 
     /// Checks a rectangle `{ min = [x0, y0], max = [x1, y1] }` with min ≤ max.
+    /// Checks an optional interval `{ min, max }` of finite numbers with min ≤ max:
+    /// `Some(None)` when absent, `None` after an error.
+    fn optional_scalar_range(
+        &mut self,
+        raw: Option<&Spanned<RawScalarRange>>,
+        key: &str,
+    ) -> Option<Option<Uniform1>> {
+        let Some(raw) = raw else {
+            return Some(None);
+        };
+        let r = raw.get_ref();
+        let min = self.finite(&r.min, &format!("{key}.min"));
+        let max = self.finite(&r.max, &format!("{key}.max"));
+        let (min, max) = (min?, max?);
+        if min <= max && (max - min).is_finite() {
+            return Some(Some(Uniform1 { min, max }));
+        }
+        self.error(
+            Diagnostic::at(raw.span(), format!("`{key}` has min above max"))
+                .label(format!("min = {min}, max = {max}"))
+                .hint("give min ≤ max"),
+        );
+        None
+    }
+
     fn range(&mut self, raw: &Spanned<RawRange>, key: &str) -> Option<Uniform2> {
         let r = raw.get_ref();
         let min = self.vec2(&r.min, &format!("{key}.min"));
@@ -797,17 +885,31 @@ impl Validator {
                 }
             }
         };
+        let angle = b
+            .angle
+            .as_ref()
+            .map_or(Some(0.0), |a| self.finite(a, "angle"));
+        let angular_velocity = b
+            .angular_velocity
+            .as_ref()
+            .map_or(Some(0.0), |w| self.finite(w, "angular_velocity"));
+        let inertia = b.inertia.as_ref().map(|i| self.positive(i, "inertia"));
         let (mass, (shape, centroid)) = mass_and_shape?;
+        let angle = angle?;
+        let inertia = match inertia {
+            Some(given) => given?,
+            None => self.shape_inertia(raw, &name, &shape, mass)?,
+        };
         Some(Body {
             name,
             mass,
             // The centre of mass sits at `position` plus the centroid of the shape or of
-            // the point masses (Equation 8).
-            position: position? + centroid,
+            // the point masses (Equation 8), turned with the body: r = p + R(θ)·c.
+            position: position? + turned(angle, centroid),
             velocity: velocity?,
-            angle: 0.0,
-            angular_velocity: 0.0,
-            inertia: shape.inertia(mass),
+            angle,
+            angular_velocity: angular_velocity?,
+            inertia,
             centre: centroid,
             turns: false,
             shape,
@@ -815,6 +917,30 @@ impl Validator {
             show_velocity: b.show_velocity.as_ref().is_some_and(|s| *s.get_ref()),
             show_force: b.show_force.as_ref().is_some_and(|s| *s.get_ref()),
         })
+    }
+
+    /// Returns the moment of inertia of a shape of mass `mass`, or reports one too large
+    /// to be a number (a huge mass and size) at the body.
+    fn shape_inertia(
+        &mut self,
+        raw: &Spanned<RawBody>,
+        name: &str,
+        shape: &Shape,
+        mass: f64,
+    ) -> Option<f64> {
+        let inertia = shape.inertia(mass);
+        if inertia.is_finite() {
+            return Some(inertia);
+        }
+        self.error(
+            Diagnostic::at(
+                raw.span(),
+                format!("the moment of inertia of body `{name}` is too large to compute"),
+            )
+            .label(format!("M·r² overflows: {inertia}"))
+            .hint("use smaller units, or give `inertia` yourself"),
+        );
+        None
     }
 
     /// Returns the shape, with vertices relative to its centroid, and that centroid
@@ -990,11 +1116,28 @@ impl Validator {
                 let f1 =
                     f.f1.as_ref()
                         .map_or(Some(DVec2::ZERO), |v| self.vec2(v, "f1"));
+                let at = self.optional_vec2(f.at.as_ref(), "at");
                 ForceSpec::TimeVarying {
                     f0: f0?,
                     f1: f1?,
                     bodies: bodies?,
-                    at: None,
+                    at: at?,
+                }
+            }
+            "torque" => {
+                let tau = self.required(raw, &f.tau, "tau", "tau = 1.0")?;
+                let tau = self.finite(tau, "tau");
+                ForceSpec::Torque {
+                    tau: tau?,
+                    bodies: bodies?,
+                }
+            }
+            "angular-drag" => {
+                let k = self.required(raw, &f.k, "k", "k = 0.1")?;
+                let k = self.non_negative(k, "k");
+                ForceSpec::AngularDrag {
+                    k: k?,
+                    bodies: bodies?,
                 }
             }
             "spring" => self.spring(raw, names)?,
@@ -1059,11 +1202,28 @@ impl Validator {
                 None
             }
         });
+        let a_at = self.optional_vec2(f.a_at.as_ref(), "a_at");
+        let b_at = self.optional_vec2(f.b_at.as_ref(), "b_at");
         let (a, b) = (a?, b?);
         if b == Anchor::Body(a) {
             self.error(
                 Diagnostic::at(raw.span(), "a spring joins a body to itself")
                     .hint("give `a` and `b` different bodies, or a fixed point for `b`"),
+            );
+            return None;
+        }
+        let (a_at, b_at) = (a_at?, b_at?);
+        if let (Anchor::Point(p), Some(raw_b_at)) = (b, &f.b_at) {
+            self.error(
+                Diagnostic::at(
+                    raw_b_at.span(),
+                    "`b_at` places the spring's end on body `b`, but `b` is a fixed point",
+                )
+                .label("a fixed point has no body coordinates")
+                .hint(format!(
+                    "remove `b_at`: the spring's end is the point b = [{}, {}] itself",
+                    p.x, p.y
+                )),
             );
             return None;
         }
@@ -1073,8 +1233,8 @@ impl Validator {
             stiffness: stiffness?,
             rest_length: rest_length?,
             damping: damping?,
-            a_at: None,
-            b_at: None,
+            a_at,
+            b_at,
         })
     }
 
@@ -1249,6 +1409,18 @@ impl Validator {
         None
     }
 
+    /// Checks an optional vector: `Some(None)` when absent, `None` after an error.
+    fn optional_vec2(
+        &mut self,
+        raw: Option<&Spanned<RawVec2>>,
+        key: &str,
+    ) -> Option<Option<DVec2>> {
+        match raw {
+            Some(v) => self.vec2(v, key).map(Some),
+            None => Some(None),
+        }
+    }
+
     fn vec2(&mut self, raw: &Spanned<RawVec2>, key: &str) -> Option<DVec2> {
         let RawVec2([x, y]) = *raw.get_ref();
         if x.is_finite() && y.is_finite() {
@@ -1344,12 +1516,26 @@ fn present_force_keys(f: &RawForce) -> Vec<(&'static str, Range<usize>)> {
         f.damping.as_ref().map(|v| v.span()),
         f.centre.as_ref().map(|v| v.span()),
         f.strength.as_ref().map(|v| v.span()),
+        f.tau.as_ref().map(|v| v.span()),
+        f.at.as_ref().map(|v| v.span()),
+        f.a_at.as_ref().map(|v| v.span()),
+        f.b_at.as_ref().map(|v| v.span()),
     ];
     FORCE_KEYS
         .iter()
         .zip(spans)
         .filter_map(|(k, s)| s.map(|s| (*k, s)))
         .collect()
+}
+
+/// Returns R(θ)·p, the offset p turned with a body at angle θ; exactly p at θ = 0, so
+/// that a body that is not turned starts where it always did.
+fn turned(theta: f64, p: DVec2) -> DVec2 {
+    if theta == 0.0 {
+        p
+    } else {
+        crate::sim::rigid::rotate(theta.sin_cos(), p)
+    }
 }
 
 /// Returns the signed area of a polygon and its area centroid (the shoelace formula):

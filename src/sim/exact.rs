@@ -66,6 +66,8 @@ impl ExactSolution {
                     laws[i].omega_sq += stiffness / masses[i];
                     anchored[i] += *stiffness / masses[i] * *p;
                 }
+                // Torques turn bodies but do not move their centres of mass.
+                ForceSpec::Torque { .. } | ForceSpec::AngularDrag { .. } => {}
                 _ => return None,
             }
         }

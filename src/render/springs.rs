@@ -1,0 +1,180 @@
+//! Springs, drawn as coils between their ends when the scene asks (`show_springs`).
+//!
+//! An end is a body point, which moves and turns with its body, or a fixed point. The
+//! coil is a zigzag of a fixed number of turns and a fixed width in pixels between two
+//! short straight leads, so a stretched spring's turns spread out and a compressed
+//! one's bunch up, as a real coil's do.
+
+use glam::DVec2;
+use tiny_skia::{Color, LineCap, LineJoin, Paint, Pixmap, Stroke, Transform};
+
+use super::camera::Camera;
+use super::clip::ClipRect;
+use crate::scene::Scene;
+use crate::sim::rigid::rotate;
+use crate::sim::{Anchor, ForceSpec};
+
+/// The zigzag's half-turns.
+const HALF_TURNS: usize = 12;
+/// The zigzag's width, from its axis to a corner, in pixels.
+const WIDTH: f64 = 5.0;
+/// The share of the length taken by each straight lead.
+const LEAD: f64 = 0.12;
+
+/// One end of a drawn spring.
+#[derive(Clone, Debug)]
+enum End {
+    /// A point of body `body`: its arm from the centre of mass in body axes, and the
+    /// body's constant angle when it never turns (`None` when it does).
+    Body {
+        body: usize,
+        arm: DVec2,
+        fixed_angle: Option<f64>,
+    },
+    /// A fixed point of the world.
+    Point(DVec2),
+}
+
+impl End {
+    /// Returns where the end is in the world, given the bodies' positions and, when
+    /// some body turns, their angles.
+    fn world(&self, pos: &[DVec2], angle: Option<&[f64]>) -> DVec2 {
+        match *self {
+            End::Point(p) => p,
+            End::Body {
+                body,
+                arm,
+                fixed_angle,
+            } => {
+                if arm == DVec2::ZERO {
+                    return pos[body];
+                }
+                let theta = fixed_angle.or(angle.map(|a| a[body])).unwrap_or(0.0);
+                // r + R(θ)·(at - c).
+                pos[body] + rotate(theta.sin_cos(), arm)
+            }
+        }
+    }
+}
+
+/// The springs of a scene, ready to draw.
+#[derive(Clone, Debug)]
+pub struct Springs {
+    springs: Vec<(End, End)>,
+}
+
+impl Springs {
+    /// Returns the scene's springs when it shows them, or `None`.
+    pub fn new(scene: &Scene) -> Option<Self> {
+        if !scene.render.show_springs {
+            return None;
+        }
+        let body_end = |i: u32, at: Option<DVec2>| {
+            let b = &scene.bodies[i as usize];
+            End::Body {
+                body: i as usize,
+                arm: at.map_or(DVec2::ZERO, |p| p - b.centre),
+                fixed_angle: (!b.turns).then_some(b.angle),
+            }
+        };
+        let springs: Vec<(End, End)> = scene
+            .forces
+            .iter()
+            .filter_map(|f| match f {
+                ForceSpec::Spring {
+                    a, b, a_at, b_at, ..
+                } => Some((
+                    body_end(*a, *a_at),
+                    match b {
+                        Anchor::Body(j) => body_end(*j, *b_at),
+                        Anchor::Point(p) => End::Point(*p),
+                    },
+                )),
+                _ => None,
+            })
+            .collect();
+        (!springs.is_empty()).then_some(Springs { springs })
+    }
+
+    /// Draws every spring between its ends at the bodies' positions `pos` and, when
+    /// some body turns, angles `angle`.
+    pub fn draw(
+        &self,
+        pixmap: &mut Pixmap,
+        camera: &Camera,
+        clip: &ClipRect,
+        pos: &[DVec2],
+        angle: Option<&[f64]>,
+    ) {
+        let mut paint = Paint {
+            anti_alias: true,
+            ..Paint::default()
+        };
+        paint.set_color(Color::from_rgba8(0x55, 0x55, 0x55, 0xff));
+        let stroke = Stroke {
+            width: 1.3,
+            line_cap: LineCap::Round,
+            line_join: LineJoin::Round,
+            ..Stroke::default()
+        };
+        for (a, b) in &self.springs {
+            let from = camera.to_pixel_f64(a.world(pos, angle));
+            let to = camera.to_pixel_f64(b.world(pos, angle));
+            if let Some(path) = clip.polyline(coil(from, to)) {
+                pixmap.stroke_path(&path, &paint, &stroke, Transform::identity(), None);
+            }
+        }
+    }
+}
+
+/// Returns the points of a coil from pixel `from` to pixel `to`: a straight lead, a
+/// zigzag of [`HALF_TURNS`] half-turns of width [`WIDTH`], and another lead. A spring
+/// shorter than its zigzag is wide, or not finite, is a straight line.
+fn coil(from: (f64, f64), to: (f64, f64)) -> Vec<(f64, f64)> {
+    let (dx, dy) = (to.0 - from.0, to.1 - from.1);
+    let length = (dx * dx + dy * dy).sqrt();
+    if !length.is_finite() || length <= 4.0 * WIDTH {
+        return vec![from, to];
+    }
+    let (ux, uy) = (dx / length, dy / length);
+    // The unit normal, a quarter turn from the axis.
+    let (nx, ny) = (-uy, ux);
+    let at = |s: f64, side: f64| {
+        (
+            from.0 + ux * s * length + nx * side * WIDTH,
+            from.1 + uy * s * length + ny * side * WIDTH,
+        )
+    };
+    let mut points = Vec::with_capacity(HALF_TURNS + 4);
+    points.push(from);
+    points.push(at(LEAD, 0.0));
+    let span = 1.0 - 2.0 * LEAD;
+    for k in 0..HALF_TURNS {
+        // Corners midway along each half-turn, alternating sides.
+        let s = LEAD + span * (k as f64 + 0.5) / HALF_TURNS as f64;
+        points.push(at(s, if k % 2 == 0 { 1.0 } else { -1.0 }));
+    }
+    points.push(at(1.0 - LEAD, 0.0));
+    points.push(to);
+    points
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_coil_runs_from_end_to_end_within_its_width() {
+        let points = coil((10.0, 20.0), (110.0, 20.0));
+        assert_eq!(points.first(), Some(&(10.0, 20.0)));
+        assert_eq!(points.last(), Some(&(110.0, 20.0)));
+        assert_eq!(points.len(), HALF_TURNS + 4);
+        for (x, y) in &points {
+            assert!((10.0..=110.0).contains(x));
+            assert!((y - 20.0).abs() <= WIDTH + 1e-12);
+        }
+        // Too short, or not finite: a straight line.
+        assert_eq!(coil((0.0, 0.0), (3.0, 4.0)).len(), 2);
+        assert_eq!(coil((0.0, 0.0), (f64::NAN, 4.0)).len(), 2);
+    }
+}
