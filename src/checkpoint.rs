@@ -407,9 +407,25 @@ f1 = [0.3, 0.1]
         parse(Path::new("t.toml"), SCENE).expect("a valid scene")
     }
 
+    /// The scene above with bodies that turn: the spring hooked off both centres of
+    /// mass, a torque on one and angular drag on the other.
+    fn turning_scene() -> Scene {
+        let text = SCENE.replace(
+            "stiffness = 3.0",
+            "stiffness = 3.0\na_at = [0.1, 0.05]\nb_at = [-0.2, 0.0]\n[[force]]\nkind = \"torque\"\ntau = 0.4\nbodies = [\"a\"]\n[[force]]\nkind = \"angular-drag\"\nk = 0.1\nbodies = [\"b\"]",
+        );
+        parse(Path::new("t.toml"), &text).expect("a valid scene")
+    }
+
     #[test]
     fn restoring_is_bit_exact_for_every_supported_method() {
-        let scene = scene();
+        for scene in [scene(), turning_scene()] {
+            restoring_is_bit_exact(&scene);
+        }
+    }
+
+    fn restoring_is_bit_exact(scene: &Scene) {
+        let turns = scene.system().spins();
         for kind in IntegratorKind::ALL
             .iter()
             .copied()
@@ -430,11 +446,11 @@ f1 = [0.3, 0.1]
             // The trail holds the positions at frames 0 .. 10, not frame 10's own.
             let first_ten: Vec<Arc<[DVec2]>> = history.history().iter().take(10).cloned().collect();
             assert_eq!(checkpoint.trail, first_ten);
-            let key = RunKey::new(&scene, kind);
+            let key = RunKey::new(scene, kind);
             let bytes = checkpoint.to_bytes(&key);
             let read = Checkpoint::from_bytes(&bytes, &key).expect("reads back");
             assert_eq!(read, checkpoint, "{kind}");
-            let mut resumed = read.restore(&scene, kind);
+            let mut resumed = read.restore(scene, kind);
             straight.advance_to(scene.frame_time(25)).expect("finite");
             resumed.advance_to(scene.frame_time(25)).expect("finite");
             let (a, b) = (straight.state(), resumed.state());
@@ -443,6 +459,11 @@ f1 = [0.3, 0.1]
                 assert_eq!(p.x.to_bits(), q.x.to_bits(), "{kind}");
                 assert_eq!(p.y.to_bits(), q.y.to_bits(), "{kind}");
             }
+            let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&a.angle), bits(&b.angle), "{kind}: θ");
+            assert_eq!(bits(&a.omega), bits(&b.omega), "{kind}: ω");
+            // In the turning scene, the angles did move.
+            assert_eq!(a.omega.iter().any(|w| *w != 0.0), turns, "{kind}");
         }
     }
 

@@ -81,6 +81,37 @@ fn each_class_of_bad_input_is_located_and_writes_nothing() {
 }
 
 #[test]
+fn each_rigid_body_key_is_checked_where_it_is_written() {
+    let force = |text: &str| broken("kind = \"drag\"\nk = 1.0", text);
+    let swarm = |range: &str| {
+        format!(
+            "{GOOD}[[swarm]]\nname = \"dust\"\ncount = 3\nmass = 1.0\n\
+             position = {{ min = [0.0, 0.0], max = [1.0, 1.0] }}\n{range}\n"
+        )
+    };
+    let cases: &[(&str, String, &str, &str)] = &[
+        ("zero inertia", broken("mass = 1.0", "mass = 1.0\ninertia = 0.0"), "`inertia` must be > 0", "13:11"),
+        ("angle not a number", broken("mass = 1.0", "mass = 1.0\nangle = nan"), "`angle` must be a finite number", "13:9"),
+        ("infinite spin", broken("mass = 1.0", "mass = 1.0\nangular_velocity = -inf"), "`angular_velocity` must be a finite number", "13:20"),
+        ("force at no point", force("kind = \"force\"\nf0 = [1.0, 0.0]\nat = [nan, 0.0]"), "`at` must be two finite numbers", "17:6"),
+        ("torque without tau", force("kind = \"torque\""), "a `torque` force needs `tau`", "14:1"),
+        ("infinite torque", force("kind = \"torque\"\ntau = inf"), "`tau` must be a finite number", "16:7"),
+        ("negative angular drag", force("kind = \"angular-drag\"\nk = -0.5"), "`k` must be ≥ 0", "16:5"),
+        ("angular drag without k", force("kind = \"angular-drag\""), "a `angular-drag` force needs `k`", "14:1"),
+        ("anchor on a fixed point", force("kind = \"spring\"\na = \"puck\"\nb = [0.0, 0.0]\nstiffness = 1.0\nb_at = [0.1, 0.0]"), "`b_at` places the spring's end on body `b`, but `b` is a fixed point", "19:8"),
+        ("anchor not finite", force("kind = \"spring\"\na = \"puck\"\nb = [0.0, 0.0]\nstiffness = 1.0\na_at = [0.1, inf]"), "`a_at` must be two finite numbers", "19:8"),
+        ("torque key on drag", broken("k = 1.0", "k = 1.0\ntau = 1.0"), "`tau` does not apply to a `drag` force", "17:7"),
+        ("at on gravity", force("kind = \"gravity\"\nat = [0.0, 0.0]"), "`at` does not apply to a `gravity` force", "16:6"),
+        ("swarm angles backwards", swarm("angle = { min = 1.0, max = 0.5 }"), "`angle` has min above max", "22:9"),
+        ("swarm spin not finite", swarm("angular_velocity = { min = nan, max = 0.5 }"), "`angular_velocity.min` must be a finite number", "22:28"),
+        ("a point turned", broken("mass = 1.0", "points = [{ offset = [0.5, 0.5], mass = 2.0 }]\nangular_velocity = 1.0"), "body `puck` is turned but has no moment of inertia", "10:1"),
+    ];
+    for (case, text, message, location) in cases {
+        check(case, text, message, location);
+    }
+}
+
+#[test]
 fn every_problem_of_a_scene_is_reported_in_one_run() {
     let text = broken("mass = 1.0", "mass = -1.0")
         .replacen("width = 64", "width = 0", 1)

@@ -24,6 +24,11 @@ const SCENES: &[&str] = &[
     "centre-of-mass.toml",
     "drag-phase.toml",
     "compare.toml",
+    // Bodies that turn: a turned box and a disc with its orientation line, a box on a
+    // spring at its corner, and turned polygons.
+    "spin.toml",
+    "pendulum.toml",
+    "gears.toml",
 ];
 
 /// Our references are exact.

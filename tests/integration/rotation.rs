@@ -13,6 +13,8 @@ use physframes::sim::{
     Anchor, Coords, ForceSpec, IntegratorKind, Selection, Simulation, State, System,
 };
 
+use crate::util::scene;
+
 fn assert_close(actual: f64, expected: f64, relative: f64, what: &str) {
     let scale = expected.abs().max(1e-300);
     assert!(
@@ -271,4 +273,166 @@ fn an_anchored_spring_pulls_its_end_towards_a_fixed_point() {
     let arm = end - s.pos[0];
     assert!(arm.x.abs() < 1e-6, "arm {arm}");
     assert!(s.omega[0].abs() < 1e-6 && s.vel[0].length() < 1e-6);
+}
+
+/// A scene of one body, given as the `[[body]]` table's extra lines, with `forces`.
+fn body_scene(body: &str, forces: &str) -> String {
+    format!(
+        r#"
+        [simulation]
+        dt = 0.01
+        duration = 1.0
+        [render]
+        width = 64
+        height = 64
+        fps = 25
+        view = {{ min = [-2.0, -2.0], max = [2.0, 2.0] }}
+        [[body]]
+        name = "b"
+        position = [0.5, -0.25]
+        {body}
+        {forces}
+        "#
+    )
+}
+
+#[test]
+fn every_shape_has_the_moment_of_inertia_of_its_formula_and_inertia_overrides_it() {
+    for (body, expected) in [
+        // Disc: M·r²/2.
+        (
+            "mass = 2.0\nshape = { circle = { radius = 0.5 } }",
+            2.0 * 0.25 / 2.0,
+        ),
+        // Box: M·(w² + h²)/12.
+        (
+            "mass = 3.0\nshape = { box = { width = 1.0, height = 0.5 } }",
+            3.0 * 1.25 / 12.0,
+        ),
+        // A right triangle with legs 3 and 1.5 about its centroid: M·(a² + b²)/18.
+        (
+            "mass = 1.5\nshape = { polygon = { points = [[0.0, 0.0], [3.0, 0.0], [0.0, 1.5]] } }",
+            1.5 * (9.0 + 2.25) / 18.0,
+        ),
+        // Point masses 1 and 3, 2 apart: Σ mᵢ·|rᵢ - r_CM|² = 1·1.5² + 3·0.5².
+        (
+            "points = [{ offset = [-1.0, 0.0], mass = 1.0 }, { offset = [1.0, 0.0], mass = 3.0 }]",
+            1.0 * 2.25 + 3.0 * 0.25,
+        ),
+        // An explicit moment of inertia wins.
+        (
+            "mass = 2.0\ninertia = 0.7\nshape = { circle = { radius = 0.5 } }",
+            0.7,
+        ),
+    ] {
+        let s = scene(&body_scene(body, ""));
+        let i = s.bodies[0].inertia;
+        assert!(
+            (i - expected).abs() <= 1e-14 * expected,
+            "{body}: I = {i}, expected {expected}"
+        );
+        assert_eq!(s.system().inertia(), Some(&[i][..]));
+    }
+}
+
+#[test]
+fn a_turned_body_starts_with_its_points_turned_about_its_origin() {
+    // The triangle's centroid is c = (1, 0.5) in body coordinates. Turned by θ, its
+    // centre of mass starts at position + R(θ)·c, and the vertex (3, 0) at
+    // position + R(θ)·(3, 0).
+    let theta = 0.7f64;
+    let s = scene(&body_scene(
+        &format!(
+            "mass = 1.0\nangle = {theta}\nangular_velocity = -2.0\n\
+             shape = {{ polygon = {{ points = [[0.0, 0.0], [3.0, 0.0], [0.0, 1.5]] }} }}"
+        ),
+        "",
+    ));
+    let b = &s.bodies[0];
+    let start = DVec2::new(0.5, -0.25);
+    let c = DVec2::new(1.0, 0.5);
+    assert!((b.position - (start + rotate(theta.sin_cos(), c))).length() < 1e-15);
+    assert_eq!(b.centre, c);
+    assert_eq!((b.angle, b.angular_velocity), (theta, -2.0));
+    assert!(b.turns, "a body that spins at the start turns");
+    let state = s.initial_state();
+    assert_eq!((state.angle[0], state.omega[0]), (theta, -2.0));
+}
+
+#[test]
+fn a_swarm_draws_angles_and_spins_from_its_seed_within_their_ranges() {
+    let swarm = |extra: &str| {
+        format!(
+            r#"
+            [simulation]
+            dt = 0.01
+            duration = 0.2
+            [render]
+            fps = 25
+            view = {{ min = [0.0, 0.0], max = [10.0, 10.0] }}
+            [[swarm]]
+            name = "dust"
+            count = 200
+            seed = 7
+            mass = 1.0
+            position = {{ min = [0.0, 0.0], max = [10.0, 10.0] }}
+            velocity = {{ min = [-1.0, -1.0], max = [1.0, 1.0] }}
+            shape = {{ box = {{ width = 0.2, height = 0.1 }} }}
+            {extra}
+            "#
+        )
+    };
+    let plain = scene(&swarm(""));
+    let spun = scene(&swarm(
+        "angle = { min = -1.0, max = 1.0 }\nangular_velocity = { min = 2.0, max = 3.0 }",
+    ));
+    // The positions and velocities are the same bits with or without the new keys.
+    for (a, b) in plain.bodies.iter().zip(&spun.bodies) {
+        assert_eq!(a.position, b.position);
+        assert_eq!(a.velocity, b.velocity);
+        assert_eq!((a.angle, a.angular_velocity, a.turns), (0.0, 0.0, false));
+        assert!((-1.0..1.0).contains(&b.angle), "{}", b.angle);
+        assert!((2.0..3.0).contains(&b.angular_velocity));
+        assert!(b.turns);
+    }
+    // Spread over their ranges, not all alike.
+    let mean = spun.bodies.iter().map(|b| b.angle).sum::<f64>() / 200.0;
+    assert!(mean.abs() < 0.15, "mean angle {mean}");
+    let distinct = spun
+        .bodies
+        .windows(2)
+        .filter(|w| w[0].angle != w[1].angle)
+        .count();
+    assert_eq!(distinct, 199);
+    // Nothing turns the plain swarm: its system does no angular work.
+    assert!(!plain.system().spins());
+    let sim = plain.simulation();
+    assert!(!sim.system().spins());
+}
+
+#[test]
+fn export_writes_angles_and_spins_equal_to_the_simulation() {
+    let text = std::fs::read_to_string(crate::util::example("spin.toml")).expect("example");
+    let sandbox = crate::util::Sandbox::new();
+    sandbox.write("spin.toml", &text);
+    let out = sandbox.run(&["export", "spin.toml", "--out", "t.csv"]);
+    assert_eq!(out.status.code(), Some(0), "{}", crate::util::stderr(&out));
+    let csv = std::fs::read_to_string(sandbox.path("t.csv")).expect("csv");
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some("t,body,x,y,vx,vy,angle,omega"));
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let s = scene(&text);
+    let mut sim = s.simulation();
+    sim.run_steps(s.total_steps()).expect("finite");
+    for (i, row) in rows[rows.len() - 2..].iter().enumerate() {
+        let num = |j: usize| row[j].parse::<f64>().expect("a number");
+        assert_eq!(num(6), sim.state().angle[i]);
+        assert_eq!(num(7), sim.state().omega[i]);
+    }
+    // The box (I = 2·(1 + 0.25)/12) spins up at α = τ/I = 2.4 rad/s²: after n = 400
+    // Euler steps of 0.01 s, ω = n·h·α = 9.6 and θ = h²·α·n(n-1)/2 = 19.152.
+    let last_box = &rows[rows.len() - 2];
+    let (theta, omega): (f64, f64) = (last_box[6].parse().unwrap(), last_box[7].parse().unwrap());
+    assert!((omega - 9.6).abs() < 1e-12 * 9.6, "ω = {omega}");
+    assert!((theta - 19.152).abs() < 1e-12 * 19.152, "θ = {theta}");
 }

@@ -20,11 +20,14 @@ fn render(sandbox: &Sandbox, scene: &str, out: &str, extra: &[&str]) -> serde_js
 #[test]
 fn shards_started_from_checkpoints_equal_a_single_run_byte_for_byte() {
     // spring: trails, two bodies; centre-of-mass: F = f0 + f1·t needs t's exact bits;
-    // drag: three bodies.
+    // drag: three bodies; pendulum: a box that turns, on a spring at its corner (rk4,
+    // trails); gears: polygons spun up by torques against angular drag.
     for (scene, frames) in [
         ("spring.toml", 151u64),
         ("centre-of-mass.toml", 101),
         ("drag.toml", 126),
+        ("pendulum.toml", 251),
+        ("gears.toml", 301),
     ] {
         let sandbox = Sandbox::new();
         let path = example(scene);
