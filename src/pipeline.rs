@@ -569,16 +569,20 @@ pub fn blow_up_message(scene: &Scene, b: &BlowUp) -> String {
     let body = &scene.bodies[b.body];
     if b.quantity == ENERGY {
         let masses: Vec<f64> = scene.bodies.iter().map(|b| b.mass).collect();
-        let theory = crate::study::stability::stable_step_hint(integrator, &masses, &scene.forces)
-            .map_or(String::new(), |h| format!("\n{h}"));
+        let inertia: Vec<f64> = scene.bodies.iter().map(|b| b.inertia).collect();
+        let theory =
+            crate::study::stability::stable_step_hint(integrator, &masses, &inertia, &scene.forces)
+                .map_or(String::new(), |h| format!("\n{h}"));
         return format!(
             "the simulation blew up: its energy grew past {ENERGY_GROWTH_LIMIT} times its starting scale by step {} (t = {}) although nothing in the scene adds energy; body `{}` moves fastest; integrator {integrator}, dt = {}\nhint: a smaller dt, or a more stable integrator (symplectic-euler or verlet conserve a spring's energy){theory}",
             b.step, b.t, body.name, scene.simulation.dt
         );
     }
     let masses: Vec<f64> = scene.bodies.iter().map(|b| b.mass).collect();
-    let theory = crate::study::stability::stable_step_hint(integrator, &masses, &scene.forces)
-        .map_or(String::new(), |h| format!("\n{h}"));
+    let inertia: Vec<f64> = scene.bodies.iter().map(|b| b.inertia).collect();
+    let theory =
+        crate::study::stability::stable_step_hint(integrator, &masses, &inertia, &scene.forces)
+            .map_or(String::new(), |h| format!("\n{h}"));
     format!(
         "the simulation blew up: the {} of body `{}` became non-finite at step {} (t = {}) with integrator {integrator} and dt = {}\nhint: a smaller dt, or a more stable integrator, keeps it finite{theory}",
         b.quantity, body.name, b.step, b.t, scene.simulation.dt

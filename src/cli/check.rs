@@ -59,9 +59,22 @@ pub fn run(args: CheckArgs, verbosity: Verbosity) -> Result<()> {
             Shape::Polygon { points } => format!("polygon of {} points", points.len()),
             Shape::Points { points } => format!("{} point masses", points.len()),
         };
+        // Rotation is shown for a body that is turned or turns, and only then, so that
+        // the summary of a scene without rotation reads as it always did.
+        let spin = if b.turns || b.angle != 0.0 {
+            format!(
+                ", angle {} rad, angular velocity {} rad/s, I = {}{}",
+                b.angle,
+                b.angular_velocity,
+                b.inertia,
+                if b.turns { ", turns" } else { "" }
+            )
+        } else {
+            String::new()
+        };
         outln!(
             out,
-            "    {}: mass {}, centre of mass ({}, {}), velocity ({}, {}), {shape}",
+            "    {}: mass {}, centre of mass ({}, {}), velocity ({}, {}), {shape}{spin}",
             b.name,
             b.mass,
             b.position.x,

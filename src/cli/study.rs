@@ -129,7 +129,7 @@ struct StabilityArgs {
 
 #[derive(Debug, Args)]
 struct EnergyArgs {
-    /// A reference problem with a conserved energy: spring, orbit or
+    /// A reference problem with a conserved energy: spring, orbit, hanging-box or
     /// constant-acceleration (closed forms and bounds are for spring).
     #[arg(long, value_name = "NAME", default_value = "spring")]
     problem: String,

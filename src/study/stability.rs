@@ -315,22 +315,33 @@ pub fn theory(problem: StabilityProblem, kind: IntegratorKind) -> Theory {
 }
 
 /// Returns a sentence giving the step that theory says would be stable for this
-/// scene's linear drag and springs with this integrator, or `None` when neither
-/// applies or theory has no limit for the method.
+/// scene's linear drag, angular drag and springs with this integrator, or `None` when
+/// none applies or theory has no limit for the method. `inertia` gives the bodies'
+/// moments of inertia (angular drag's rate is k/I), or is empty when unknown.
 pub fn stable_step_hint(
     kind: IntegratorKind,
     masses: &[f64],
+    inertia: &[f64],
     forces: &[ForceSpec],
 ) -> Option<String> {
     let n = masses.len();
     // The fastest drag rate k/m of any body: the sum of every drag on it over its mass.
     let mut drag_rate = vec![0.0f64; n];
+    // The fastest angular drag rate k/I: ω' = -(k/I)·ω is the drag's test equation.
+    let mut spin_rate = vec![0.0f64; n];
     // The fastest spring frequency ω = √(stiffness/μ), μ the reduced mass.
     let mut omega = 0.0f64;
     for f in forces {
         match f {
             ForceSpec::Drag { k, bodies } => {
                 bodies.for_each(n, |i| drag_rate[i] += k / masses[i]);
+            }
+            ForceSpec::AngularDrag { k, bodies } if inertia.len() == n => {
+                bodies.for_each(n, |i| {
+                    if inertia[i] > 0.0 {
+                        spin_rate[i] += k / inertia[i];
+                    }
+                });
             }
             ForceSpec::Spring {
                 a, b, stiffness, ..
@@ -362,6 +373,16 @@ pub fn stable_step_hint(
             format!(
                 "linear drag with k/m = {rate} needs dt ≤ {drag_limit}·m/k = {}",
                 drag_limit / rate
+            ),
+        ));
+    }
+    let spin = spin_rate.iter().copied().fold(0.0, f64::max);
+    if spin > 0.0 {
+        limits.push((
+            drag_limit / spin,
+            format!(
+                "angular drag with k/I = {spin} needs dt ≤ {drag_limit}·I/k = {}",
+                drag_limit / spin
             ),
         ));
     }
@@ -866,8 +887,21 @@ mod tests {
             k: 1000.0,
             bodies: Selection::All,
         }];
-        let hint = stable_step_hint(IntegratorKind::Euler, &[1.0, 2.0], &forces).expect("a hint");
+        let hint =
+            stable_step_hint(IntegratorKind::Euler, &[1.0, 2.0], &[], &forces).expect("a hint");
         assert!(hint.contains("dt ≤ 2·m/k = 0.002"), "{hint}");
+        // Angular drag k/I = 4000 on the second body is tighter still: dt ≤ 2·I/k.
+        let mut spun = forces.to_vec();
+        spun.push(ForceSpec::AngularDrag {
+            k: 2.0,
+            bodies: Selection::Bodies(vec![1]),
+        });
+        let hint = stable_step_hint(IntegratorKind::Euler, &[1.0, 2.0], &[1.0, 5e-4], &spun)
+            .expect("a hint");
+        assert!(
+            hint.contains("angular drag with k/I = 4000 needs dt ≤ 2·I/k = 0.0005"),
+            "{hint}"
+        );
         let spring = [ForceSpec::Spring {
             a: 0,
             b: Anchor::Point(glam::DVec2::ZERO),
@@ -877,13 +911,13 @@ mod tests {
             a_at: None,
             b_at: None,
         }];
-        let hint = stable_step_hint(IntegratorKind::Euler, &[1.0], &spring).expect("a hint");
+        let hint = stable_step_hint(IntegratorKind::Euler, &[1.0], &[], &spring).expect("a hint");
         assert!(hint.contains("never stable"), "{hint}");
-        let hint =
-            stable_step_hint(IntegratorKind::SymplecticEuler, &[1.0], &spring).expect("a hint");
+        let hint = stable_step_hint(IntegratorKind::SymplecticEuler, &[1.0], &[], &spring)
+            .expect("a hint");
         assert!(hint.contains("dt < 2/ω = 1"), "{hint}");
         assert_eq!(
-            stable_step_hint(IntegratorKind::Dopri5, &[1.0], &spring),
+            stable_step_hint(IntegratorKind::Dopri5, &[1.0], &[], &spring),
             None
         );
     }

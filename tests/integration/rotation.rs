@@ -436,3 +436,24 @@ fn export_writes_angles_and_spins_equal_to_the_simulation() {
     assert!((omega - 9.6).abs() < 1e-12 * 9.6, "ω = {omega}");
     assert!((theta - 19.152).abs() < 1e-12 * 19.152, "θ = {theta}");
 }
+
+#[test]
+fn a_spin_that_blows_up_stops_with_exit_3_naming_the_body_and_the_stable_step() {
+    // Angular drag with k/I = 1000 and dt = 0.01: explicit Euler multiplies ω by
+    // 1 - h·k/I = -9 each step. The energy, which counts ½·I·ω², grows tenfold within
+    // steps, and the message names the body and the step that would be stable.
+    let text = body_scene(
+        "mass = 1.0\ninertia = 0.001\nangular_velocity = 1.0\nshape = { circle = { radius = 0.1 } }",
+        "[[force]]\nkind = \"angular-drag\"\nk = 1.0",
+    );
+    let sandbox = crate::util::Sandbox::new();
+    sandbox.write("spin.toml", &text);
+    let out = sandbox.run(&["render", "spin.toml", "--out", "frames"]);
+    let err = crate::util::stderr(&out);
+    assert_eq!(out.status.code(), Some(3), "{err}");
+    assert!(err.contains("body `b`"), "{err}");
+    assert!(
+        err.contains("angular drag with k/I = 1000 needs dt ≤ 2·I/k = 0.002"),
+        "{err}"
+    );
+}
