@@ -325,7 +325,7 @@ pub fn save_run(scene: &Scene, dir: &Path, every: u64, end: u64) -> Result<SaveR
         sim.advance_to(scene.frame_time(k)).map_err(|b| {
             Error::BlowUp(format!(
                 "{}\ncheckpoints before it were written",
-                crate::pipeline::blow_up_message(scene, &b)
+                crate::blowup::blow_up_message(scene, &b)
             ))
         })?;
         if scene.render.trails {

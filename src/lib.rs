@@ -6,6 +6,7 @@
 //! and writes it atomically. The simulation never imports the renderer, and the renderer
 //! only reads simulation state.
 
+pub mod blowup;
 pub mod checkpoint;
 pub mod cli;
 pub mod compare;

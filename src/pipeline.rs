@@ -18,6 +18,7 @@ use std::time::{Duration, Instant};
 use glam::DVec2;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
+use crate::blowup::{blow_up_message, EnergyWatch};
 use crate::checkpoint::{Checkpoint, CheckpointOptions, CheckpointWriter, RunKey};
 use crate::error::{Error, Result};
 use crate::history::{HistoryWriter, PointHistory};
@@ -497,96 +498,6 @@ fn draw_and_write(
     output::write_atomic(&dir.join(output::frame_file_name(job.index)), &buffers.png)?;
     StageClock::add(&clock.write, encoded);
     Ok(())
-}
-
-/// How many times its starting scale the mechanical energy of a scene without an energy
-/// source may grow before the run is stopped as numerically unstable.
-pub const ENERGY_GROWTH_LIMIT: f64 = 10.0;
-
-/// Watches the mechanical energy of a scene that has no energy source: drag and damping
-/// only remove energy and the other forces conserve it, so energy growing far past its
-/// start is the integrator's instability, caught before it reaches infinity.
-pub(crate) struct EnergyWatch {
-    /// E0 and the scale S = KE0 + |U0| (plus the initial potential's own size).
-    start: Option<(f64, f64)>,
-}
-
-impl EnergyWatch {
-    pub(crate) fn new(sim: &crate::sim::Simulation) -> Self {
-        let s = sim.state();
-        let system = sim.system();
-        let start = system.mechanical_energy(s).and_then(|e0| {
-            let ke = system.kinetic_energy(s);
-            let scale = ke + (e0 - ke).abs();
-            (scale > 0.0 && scale.is_finite()).then_some((e0, scale))
-        });
-        EnergyWatch { start }
-    }
-
-    /// Returns a blow-up when E > E0 + (LIMIT - 1)·S, naming the body with the most
-    /// kinetic energy.
-    pub(crate) fn check(&self, sim: &crate::sim::Simulation) -> Result<(), BlowUp> {
-        let Some((e0, scale)) = self.start else {
-            return Ok(());
-        };
-        let s = sim.state();
-        let system = sim.system();
-        let Some(e) = system.mechanical_energy(s) else {
-            return Ok(());
-        };
-        if e <= e0 + (ENERGY_GROWTH_LIMIT - 1.0) * scale {
-            return Ok(());
-        }
-        let body = (0..s.len())
-            .map(|i| system.kinetic_energy_of(s, i))
-            .enumerate()
-            .max_by(|a, b| a.1.total_cmp(&b.1))
-            .map_or(0, |(i, _)| i);
-        Err(BlowUp {
-            body,
-            step: sim.steps(),
-            t: s.t,
-            quantity: ENERGY,
-        })
-    }
-}
-
-/// The `quantity` of a [`BlowUp`] raised by [`EnergyWatch`].
-pub const ENERGY: &str = "energy";
-
-/// Describes a blow-up for a person: which body, which step, and what to change.
-pub fn blow_up_message(scene: &Scene, b: &BlowUp) -> String {
-    let integrator = scene.simulation.integrator;
-    if b.quantity == crate::sim::STIFF {
-        return format!(
-            "the simulation stopped: {integrator} took {} steps without reaching the next frame (t = {}); the scene is too stiff for an explicit adaptive method at rtol = {}, atol = {}\nhint: loosen the tolerances, or use a fixed-step method with a dt that linear stability allows",
-            crate::sim::MAX_ADAPTIVE_STEPS_PER_ADVANCE,
-            b.t,
-            scene.simulation.tolerances.rtol,
-            scene.simulation.tolerances.atol
-        );
-    }
-    let body = &scene.bodies[b.body];
-    if b.quantity == ENERGY {
-        let masses: Vec<f64> = scene.bodies.iter().map(|b| b.mass).collect();
-        let inertia: Vec<f64> = scene.bodies.iter().map(|b| b.inertia).collect();
-        let theory =
-            crate::study::stability::stable_step_hint(integrator, &masses, &inertia, &scene.forces)
-                .map_or(String::new(), |h| format!("\n{h}"));
-        return format!(
-            "the simulation blew up: its energy grew past {ENERGY_GROWTH_LIMIT} times its starting scale by step {} (t = {}) although nothing in the scene adds energy; body `{}` moves fastest; integrator {integrator}, dt = {}\nhint: a smaller dt, or a more stable integrator (symplectic-euler or verlet conserve a spring's energy){theory}",
-            b.step, b.t, body.name, scene.simulation.dt
-        );
-    }
-    let masses: Vec<f64> = scene.bodies.iter().map(|b| b.mass).collect();
-    let inertia: Vec<f64> = scene.bodies.iter().map(|b| b.inertia).collect();
-    let theory =
-        crate::study::stability::stable_step_hint(integrator, &masses, &inertia, &scene.forces)
-            .map_or(String::new(), |h| format!("\n{h}"));
-    format!(
-        "the simulation blew up: the {} of body `{}` became non-finite at step {} (t = {}) with integrator {integrator} and dt = {}\nhint: a smaller dt, or a more stable integrator, keeps it finite{theory}",
-        b.quantity, body.name, b.step, b.t, scene.simulation.dt
-    )
 }
 
 fn progress_bar(show: bool, len: u64) -> ProgressBar {

@@ -331,7 +331,7 @@ fn simulate_line(scene: &Scene, threads: usize, repeat: usize) -> Result<String>
         let started = Instant::now();
         let result = pool.install(|| sim.run_steps(steps));
         let elapsed = started.elapsed().as_secs_f64();
-        result.map_err(|b| Error::BlowUp(pipeline::blow_up_message(scene, &b)))?;
+        result.map_err(|b| Error::BlowUp(crate::blowup::blow_up_message(scene, &b)))?;
         Ok(elapsed)
     };
     let time_hand = |hand: &mut HandWrittenEuler| {

@@ -6,9 +6,9 @@ use std::path::PathBuf;
 use clap::Args;
 
 use super::SceneArgs;
+use crate::blowup::blow_up_message;
 use crate::error::{Error, Result};
 use crate::output::write_trajectory;
-use crate::pipeline::blow_up_message;
 
 #[derive(Debug, Args)]
 pub struct ExportArgs {

@@ -88,7 +88,7 @@ pub fn render_frame(scene: &Scene, frame: u64) -> Result<Pixmap> {
     let mut comparison = None;
     for k in 0..=frame {
         sim.advance_to(scene.frame_time(k))
-            .map_err(|b| Error::BlowUp(pipeline::blow_up_message(scene, &b)))?;
+            .map_err(|b| Error::BlowUp(crate::blowup::blow_up_message(scene, &b)))?;
         let state = sim.state();
         if scene.render.trails {
             trail.push(std::sync::Arc::from(state.pos.as_slice()));

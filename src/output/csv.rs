@@ -45,7 +45,7 @@ pub fn write_trajectory(
             write_rows(&sim, &names, out)?;
         }
     } else {
-        let energy = crate::pipeline::EnergyWatch::new(&sim);
+        let energy = crate::blowup::EnergyWatch::new(&sim);
         for k in 1..frames {
             if let Err(b) = sim
                 .advance_to(scene.frame_time(k))
