@@ -22,6 +22,11 @@ use toml::de::{DeTable, DeValue, Deserializer};
 use super::raw::RawScene;
 use super::{overrides, validate, Diagnostic, Scene, SceneError, Sources};
 
+/// Parses and validates the text of a scene file read from `path`.
+pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
+    parse_with_overrides(path, text, &[])
+}
+
 /// Parses and validates the text of a scene file read from `path`, with the `--set`
 /// overrides applied in order.
 ///
@@ -29,7 +34,11 @@ use super::{overrides, validate, Diagnostic, Scene, SceneError, Sources};
 /// otherwise of the file's bytes followed, for each override in order, by a zero byte
 /// and the argument's text, so that a render with overrides never passes for one
 /// without.
-pub fn parse(path: &Path, text: &str, overrides: &[String]) -> Result<Scene, SceneError> {
+pub fn parse_with_overrides(
+    path: &Path,
+    text: &str,
+    overrides: &[String],
+) -> Result<Scene, SceneError> {
     let error = |diagnostics| SceneError::new(path, text, diagnostics).with_overrides(overrides);
     let mut root = match DeTable::parse(text) {
         Ok(root) => root,

@@ -24,9 +24,9 @@ use glam::DVec2;
 
 pub use color::Rgba;
 pub use diagnostic::{Diagnostic, SceneError, Sources};
-pub use frontend::hash_with_overrides;
+pub use frontend::{hash_with_overrides, parse};
 pub use layers::Layers;
-pub use validate::{parse, MAX_BODIES, MAX_FRAMES, MAX_IMAGE_SIDE};
+pub use validate::{MAX_BODIES, MAX_FRAMES, MAX_IMAGE_SIDE};
 
 use crate::sim::{ForceSpec, IntegratorKind, Simulation, State, System, Tolerances};
 
@@ -232,7 +232,7 @@ impl Scene {
             path: path.to_path_buf(),
             source: std::io::Error::new(std::io::ErrorKind::InvalidData, e),
         })?;
-        frontend::parse(path, &text, overrides).map_err(LoadError::Invalid)
+        frontend::parse_with_overrides(path, &text, overrides).map_err(LoadError::Invalid)
     }
 
     /// Returns the time of frame k, t = k·steps_per_frame·dt (= k/fps to 1e-9).
