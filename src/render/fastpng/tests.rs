@@ -1,0 +1,211 @@
+
+use super::*;
+use tiny_skia::{Color, FillRule, Paint, PathBuilder, Transform};
+
+/// Checks the zlib stream's Adler-32 against the filtered bytes of `pixels`: the
+/// decoder does not.
+fn check_adler(png: &[u8], pixels: &[u8], stride: usize) {
+    let at = png
+        .windows(4)
+        .position(|w| w == b"IDAT")
+        .expect("an IDAT chunk");
+    let length = u32::from_be_bytes(png[at - 4..at].try_into().expect("4 bytes")) as usize;
+    let data = &png[at + 4..at + 4 + length];
+    let stored = u32::from_be_bytes(data[data.len() - 4..].try_into().expect("4 bytes"));
+    let mut h = simd_adler32::Adler32::new();
+    let mut filtered = vec![0; stride];
+    for (y, row) in pixels.chunks(stride).enumerate() {
+        if y == 0 {
+            filtered.copy_from_slice(row);
+        } else {
+            up_filter(row, &pixels[(y - 1) * stride..y * stride], &mut filtered);
+        }
+        h.write(&[UP]);
+        h.write(&filtered);
+    }
+    assert_eq!(stored, h.finish(), "Adler-32");
+}
+
+fn decode(png: &[u8]) -> (Vec<u8>, Vec<(String, String)>) {
+    let decoder = png::Decoder::new(std::io::Cursor::new(png));
+    let mut reader = decoder.read_info().expect("a PNG header");
+    let mut pixels = vec![0; reader.output_buffer_size().expect("size")];
+    reader.next_frame(&mut pixels).expect("pixels");
+    let text = reader
+        .info()
+        .utf8_text
+        .iter()
+        .map(|c| (c.keyword.clone(), c.get_text().expect("text")))
+        .collect();
+    (pixels, text)
+}
+
+fn disc(pixmap: &mut Pixmap, x: f32, y: f32, r: f32, c: Color) {
+    let mut paint = Paint::default();
+    paint.set_color(c);
+    paint.anti_alias = true;
+    if let Some(path) = PathBuilder::from_circle(x, y, r) {
+        pixmap.fill_path(
+            &path,
+            &paint,
+            FillRule::Winding,
+            Transform::identity(),
+            None,
+        );
+    }
+}
+
+#[test]
+fn frames_decode_to_their_pixels_and_text() {
+    // A static layer with detail, and frames that change some tiles of it.
+    let mut layer = Pixmap::new(203, 61).expect("pixmap");
+    layer.fill(Color::from_rgba8(250, 250, 245, 255));
+    for k in 0..12 {
+        disc(
+            &mut layer,
+            17.0 * k as f32,
+            30.0,
+            6.5,
+            Color::from_rgba8(90, 90, 90, 255),
+        );
+    }
+    let encoder = StaticPng::new(&layer).expect("the fdeflate code is readable");
+    let provenance = Provenance::default().with("physframes:t", 0.25);
+    let mut out = Vec::new();
+    for k in 0..6 {
+        let mut frame = layer.clone();
+        for j in 0..k * 7 {
+            let c = Color::from_rgba8(30 * k as u8, 200, (j * 9) as u8, 255);
+            disc(
+                &mut frame,
+                (j * 29 % 203) as f32,
+                (j * 13 % 61) as f32,
+                4.3,
+                c,
+            );
+        }
+        encoder.encode_tiles(&frame, &provenance, &mut out);
+        let (pixels, text) = decode(&out);
+        assert_eq!(pixels, frame.data(), "frame {k}");
+        check_adler(&out, frame.data(), 4 * 203);
+        assert_eq!(text, [("physframes:t".to_string(), "0.25".to_string())]);
+    }
+}
+
+#[test]
+fn long_runs_and_tiles_of_every_kind_round_trip() {
+    let mut layer = Pixmap::new(700, 9).expect("pixmap");
+    layer.fill(Color::WHITE);
+    let encoder = StaticPng::new(&layer).expect("readable");
+    let mut frame = layer.clone();
+    frame.data_mut()[4 * 650 + 1] = 3;
+    frame.data_mut()[4 * 700 * 5 + 7] = 0;
+    let mut out = Vec::new();
+    encoder.encode_tiles(&frame, &Provenance::default(), &mut out);
+    assert_eq!(decode(&out).0, frame.data());
+    check_adler(&out, frame.data(), 4 * 700);
+    encoder.encode_tiles(&layer, &Provenance::default(), &mut out);
+    assert_eq!(decode(&out).0, layer.data());
+}
+
+#[test]
+fn damaged_frames_decode_to_their_pixels() {
+    // The frames of the test above, drawn over an odd width (a partial tile ends
+    // every row), encoded from their damage, both by the tile path (forced) and
+    // by the encoder's choice; the last is damaged whole.
+    let (width, height) = (203, 61);
+    let layer = grey_discs(width, height);
+    let encoder = StaticPng::new(&layer).expect("the fdeflate code is readable");
+    let mut out = Vec::new();
+    for k in 0..9 {
+        let (frame, damage) = frame_with_discs(&layer, k);
+        let damage = if k == 8 { Damage::whole() } else { damage };
+        for forced in [false, true] {
+            if forced {
+                encoder.encode_damaged_tiles(&frame, &damage, &Provenance::default(), &mut out)
+            } else {
+                encoder.encode_damaged(&frame, &damage, &Provenance::default(), &mut out)
+            }
+            .expect("encodes");
+            assert_eq!(
+                decode(&out).0,
+                frame.data(),
+                "frame {k}, tiles forced: {forced}"
+            );
+            check_adler(&out, frame.data(), 4 * width as usize);
+        }
+    }
+}
+
+/// A static layer with detail: a row of grey discs over an off-white background.
+fn grey_discs(width: u32, height: u32) -> Pixmap {
+    let mut layer = Pixmap::new(width, height).expect("pixmap");
+    layer.fill(Color::from_rgba8(250, 250, 245, 255));
+    for k in 0..12 {
+        let grey = Color::from_rgba8(90, 90, 90, 255);
+        disc(&mut layer, 17.0 * k as f32, 30.0, 6.5, grey);
+    }
+    layer
+}
+
+/// The layer with `k` coloured discs drawn over it, and their damage.
+fn frame_with_discs(layer: &Pixmap, k: usize) -> (Pixmap, Damage) {
+    let (width, height) = (layer.width(), layer.height());
+    let mut frame = layer.clone();
+    let mut damage = Damage::default();
+    for j in 0..k {
+        let (x, y) = ((j * 71 % 211) as f32 - 3.0, (j * 23 % 67) as f32);
+        let c = Color::from_rgba8(30 * k as u8, 200, (j * 9) as u8, 255);
+        disc(&mut frame, x, y, 4.3, c);
+        damage.add_around(x, y, 4.3 + 1.0, width, height);
+    }
+    (frame, damage)
+}
+
+#[test]
+fn the_layer_compresses_to_the_same_bits_on_any_number_of_threads() {
+    let layer = grey_discs(203, 61);
+    let one = StaticPng::new(&layer).expect("readable");
+    let (frame, damage) = frame_with_discs(&layer, 5);
+    let mut expected = Vec::new();
+    one.encode_damaged_tiles(&frame, &damage, &Provenance::default(), &mut expected)
+        .expect("encodes");
+    for threads in [2, 3, 7, 200] {
+        let many = StaticPng::with_threads(&layer, threads).expect("readable");
+        assert_eq!(many.layer.pool, one.layer.pool, "{threads} threads");
+        let mut out = Vec::new();
+        many.encode_damaged_tiles(&frame, &damage, &Provenance::default(), &mut out)
+            .expect("encodes");
+        assert_eq!(out, expected, "{threads} threads");
+    }
+}
+
+#[test]
+fn copied_tiles_cost_no_more_bytes_than_compressing_the_whole_frame() {
+    // Runs of zeros cross from the static layer's tiles into the frame's and back
+    // as in one stream: the tile path's frame is within a few bytes of fdeflate's
+    // (same code, same runs; only where a run meets a dirty span may it split).
+    let layer = grey_discs(203, 61);
+    let encoder = StaticPng::new(&layer).expect("readable");
+    for k in [0, 1, 3] {
+        let (frame, damage) = frame_with_discs(&layer, k);
+        let (mut tiles, mut whole) = (Vec::new(), Vec::new());
+        encoder
+            .encode_damaged_tiles(&frame, &damage, &Provenance::default(), &mut tiles)
+            .expect("encodes");
+        encode_png_into(
+            &mut whole,
+            &frame,
+            &Provenance::default(),
+            Compression::Fastest,
+            true,
+        )
+        .expect("encodes");
+        assert!(
+            tiles.len() <= whole.len() + whole.len() / 100 + 16,
+            "{k} discs: {} bytes by tiles, {} by fdeflate",
+            tiles.len(),
+            whole.len()
+        );
+    }
+}
