@@ -11,13 +11,16 @@
 //! shapes) stays in the scene.
 
 pub mod baseline;
+pub mod chunks;
 pub mod dof;
+mod energy;
 pub mod exact;
 pub mod forces;
 pub mod integrators;
 pub mod rigid;
 pub mod scalar_ode;
 mod simulation;
+pub mod state;
 pub mod system;
 
 pub use baseline::HandWrittenEuler;
@@ -25,4 +28,5 @@ pub use forces::{Anchor, ForceSpec, Selection};
 pub use integrators::{Integrator, IntegratorKind, Stepper, Tolerances};
 pub use scalar_ode::ScalarMethod;
 pub use simulation::{BlowUp, Simulation, MAX_ADAPTIVE_STEPS_PER_ADVANCE, STIFF};
-pub use system::{Coords, State, System};
+pub use state::{Coords, State};
+pub use system::System;

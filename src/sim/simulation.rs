@@ -5,7 +5,7 @@ use std::fmt;
 use glam::DVec2;
 
 use super::integrators::{StepController, Tolerances};
-use super::system::Coords;
+use super::state::Coords;
 use super::{IntegratorKind, State, Stepper, System};
 
 /// The most steps an adaptive method may take in one call of `advance_to` (one frame),

@@ -1,138 +1,30 @@
-//! The system of equations the integrators solve, and the state they advance.
+//! The system of equations the integrators solve: masses, moments of inertia and
+//! forces, and what they give for a state (forces, accelerations and torques; energy and
+//! momentum are in `energy.rs`).
+//!
+//! Why this file is long (about 700 lines): its several ways of summing the forces (in
+//! registers for a few bodies, chunk by chunk on threads, family by family) must give
+//! the same bits, and they are kept side by side, with the test that checks it, so that
+//! a change to one is seen beside the others.
 
-use std::sync::atomic::{AtomicU8, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use glam::DVec2;
-use rayon::prelude::*;
 
+use super::chunks::{for_each_chunk, CHUNK, PARALLEL_MIN};
 use super::forces::{ForceSet, ForceSpec, Masses, LANES};
-use super::rigid::perp_dot;
-
-/// Bodies per chunk of the per-body loops: 512 bodies keep a chunk's positions,
-/// velocities and accelerations (8 KiB each) in the L1 cache between computing the
-/// forces and using them.
-pub const CHUNK: usize = 512;
-
-/// Bodies per task when the per-body loops are split across threads: large enough that
-/// scheduling a task costs little beside it.
-pub const BLOCK: usize = 32 * CHUNK;
-
-/// The fewest bodies for which the per-body loops are split across threads; below it
-/// they run on the calling thread. Each body's update is independent of the others',
-/// so splitting gives the same bits for any number of threads.
-pub const PARALLEL_MIN: usize = 4 * BLOCK;
-
-/// The state of every body at one instant: the article's r and v (Equations 1 and 2)
-/// for each body's centre of mass, and its orientation θ and angular velocity ω, in flat
-/// arrays indexed by body.
-#[derive(Clone, Debug, PartialEq)]
-pub struct State {
-    /// Simulated time t.
-    pub t: f64,
-    /// Centre-of-mass positions r, one per body.
-    pub pos: Vec<DVec2>,
-    /// Centre-of-mass velocities v = dr/dt, one per body.
-    pub vel: Vec<DVec2>,
-    /// Orientations θ in radians, counter-clockwise positive, one per body.
-    pub angle: Vec<f64>,
-    /// Angular velocities ω = dθ/dt, one per body.
-    pub omega: Vec<f64>,
-}
-
-/// The coordinates of every body at one instant, borrowed: what a force evaluation
-/// reads. Stages of an integrator are states that live in its own buffers, so they are
-/// passed as views rather than as [`State`]s.
-#[derive(Clone, Copy, Debug)]
-pub struct Coords<'a> {
-    /// Centre-of-mass positions r.
-    pub pos: &'a [DVec2],
-    /// Centre-of-mass velocities v.
-    pub vel: &'a [DVec2],
-    /// Orientations θ; read only when the system spins (see [`System::spins`]).
-    pub angle: &'a [f64],
-    /// Angular velocities ω; read only when the system spins.
-    pub omega: &'a [f64],
-}
-
-impl<'a> Coords<'a> {
-    /// Returns the coordinates of a state.
-    pub fn of(state: &'a State) -> Self {
-        Coords {
-            pos: &state.pos,
-            vel: &state.vel,
-            angle: &state.angle,
-            omega: &state.omega,
-        }
-    }
-
-    /// Returns positions and velocities without angles, for a system that does not
-    /// spin (which reads none).
-    pub fn linear(pos: &'a [DVec2], vel: &'a [DVec2]) -> Self {
-        Coords {
-            pos,
-            vel,
-            angle: &[],
-            omega: &[],
-        }
-    }
-}
-
-impl State {
-    /// Returns a state of bodies at the given positions and velocities, none turned
-    /// (θ = 0) or spinning (ω = 0).
-    pub fn new(t: f64, pos: Vec<DVec2>, vel: Vec<DVec2>) -> Self {
-        debug_assert_eq!(pos.len(), vel.len());
-        let n = pos.len();
-        State {
-            t,
-            pos,
-            vel,
-            angle: vec![0.0; n],
-            omega: vec![0.0; n],
-        }
-    }
-
-    /// Returns true when every angle and angular velocity is finite.
-    pub fn angles_are_finite(&self) -> bool {
-        self.angle
-            .iter()
-            .zip(&self.omega)
-            .all(|(a, w)| a.is_finite() && w.is_finite())
-    }
-
-    /// Returns true when every position and velocity is finite. One pass over the flat
-    /// arrays, split across threads for many bodies.
-    pub fn is_finite(&self) -> bool {
-        if self.len() < PARALLEL_MIN {
-            return all_finite(&self.pos, &self.vel);
-        }
-        self.pos
-            .par_chunks(BLOCK)
-            .zip(self.vel.par_chunks(BLOCK))
-            .all(|(p, v)| all_finite(p, v))
-    }
-
-    /// Returns the number of bodies.
-    pub fn len(&self) -> usize {
-        self.pos.len()
-    }
-
-    /// Returns true when the state holds no body.
-    pub fn is_empty(&self) -> bool {
-        self.pos.is_empty()
-    }
-}
+use super::state::Coords;
 
 /// The masses of the bodies and the forces on them: everything needed to compute
 /// accelerations from a state. Fixed for the length of a run.
 #[derive(Debug)]
 pub struct System {
-    mass: Vec<f64>,
+    pub(super) mass: Vec<f64>,
     inv_mass: Vec<f64>,
     /// The mass every body has, when all are equal (and its inverse): then the hot
     /// loops read no mass array.
     uniform_mass: Option<(f64, f64)>,
-    forces: ForceSet,
+    pub(super) forces: ForceSet,
     /// True when every force but the springs acts on every body, so that the forces
     /// can be summed a few bodies at a time in registers.
     whole: bool,
@@ -145,18 +37,18 @@ pub struct System {
     finite_step: AtomicUsize,
     /// The bodies' moments of inertia and centres of mass in body coordinates, for a
     /// system built with [`System::rigid`].
-    rigid: Option<Rigid>,
+    pub(super) rigid: Option<Rigid>,
     /// True when the angles and angular velocities are advanced: something can turn a
     /// body, or some body spins already. Otherwise every ω is zero and stays zero, every
     /// θ keeps its value, and the steps do no angular work at all.
-    spins: bool,
+    pub(super) spins: bool,
 }
 
 /// What the rotation of rigid bodies needs beyond their masses.
 #[derive(Clone, Debug)]
-struct Rigid {
+pub(super) struct Rigid {
     /// Moments of inertia I about the centres of mass.
-    inertia: Vec<f64>,
+    pub(super) inertia: Vec<f64>,
     /// 1/I.
     inv_inertia: Vec<f64>,
     /// Each body's centre of mass c in its body coordinates.
@@ -682,94 +574,6 @@ impl System {
             *o = if scale { f[0] * inv(i) } else { f[0] };
         }
     }
-
-    /// Returns the total momentum p_T = Σ m_i v_i (Equations 7 and 10).
-    pub fn momentum(&self, vel: &[DVec2]) -> DVec2 {
-        vel.iter()
-            .zip(&self.mass)
-            .fold(DVec2::ZERO, |p, (v, m)| p + *m * *v)
-    }
-
-    /// Returns the total angular momentum about the point `origin`:
-    /// L_O = Σ ((r_i - O)⊥·(m_i·v_i) + I_i·ω_i), the orbital part of every centre of
-    /// mass plus every body's spin (which is zero for a system that does not spin).
-    pub fn angular_momentum(&self, state: &State, origin: DVec2) -> f64 {
-        let orbital: f64 = state
-            .pos
-            .iter()
-            .zip(&state.vel)
-            .zip(&self.mass)
-            .map(|((r, v), m)| perp_dot(*r - origin, *m * *v))
-            .sum();
-        orbital + self.spin_momentum(state)
-    }
-
-    /// Returns Σ I_i·ω_i, the bodies' spin angular momentum.
-    fn spin_momentum(&self, state: &State) -> f64 {
-        match &self.rigid {
-            Some(rigid) if self.spins => rigid
-                .inertia
-                .iter()
-                .zip(&state.omega)
-                .map(|(i, w)| i * w)
-                .sum(),
-            _ => 0.0,
-        }
-    }
-
-    /// Returns the total kinetic energy Σ (½·m_i·|v_i|² + ½·I_i·ω_i²): of the motion of
-    /// the centres of mass, plus of the spins when the system spins.
-    pub fn kinetic_energy(&self, state: &State) -> f64 {
-        let linear: f64 = state
-            .vel
-            .iter()
-            .zip(&self.mass)
-            .map(|(v, m)| 0.5 * m * v.length_squared())
-            .sum();
-        match &self.rigid {
-            Some(rigid) if self.spins => {
-                // E = ½·M·|v|² + ½·I·ω².
-                let spin: f64 = rigid
-                    .inertia
-                    .iter()
-                    .zip(&state.omega)
-                    .map(|(i, w)| 0.5 * i * w * w)
-                    .sum();
-                linear + spin
-            }
-            _ => linear,
-        }
-    }
-
-    /// Returns the kinetic energy ½·m·|v|² + ½·I·ω² of body `i`.
-    pub fn kinetic_energy_of(&self, state: &State, i: usize) -> f64 {
-        let linear = 0.5 * self.mass[i] * state.vel[i].length_squared();
-        match &self.rigid {
-            Some(rigid) if self.spins => {
-                linear + 0.5 * rigid.inertia[i] * state.omega[i] * state.omega[i]
-            }
-            _ => linear,
-        }
-    }
-
-    /// Returns the potential energy of the conservative forces (gravity, springs,
-    /// central forces) at the state, or `None` when some force has no potential
-    /// (drag, angular drag, time-varying forces, torques), so that energy is not a
-    /// conserved quantity.
-    pub fn potential_energy(&self, state: &State) -> Option<f64> {
-        self.forces
-            .potential_energy(state.t, &state.pos, &state.angle, &self.mass)
-    }
-
-    /// Returns the mechanical energy, kinetic plus the potential of the conservative
-    /// forces, or `None` when the scene has an energy source (a time-varying force or
-    /// a constant torque).
-    pub fn mechanical_energy(&self, state: &State) -> Option<f64> {
-        let u = self
-            .forces
-            .conservative_potential(&state.pos, &state.angle, &self.mass)?;
-        Some(self.kinetic_energy(state) + u)
-    }
 }
 
 /// Divides each force of a chunk by its body's mass: a = F/m, as F·(1/m).
@@ -788,146 +592,6 @@ fn divide_by_mass(mass: Masses<'_>, acc: &mut [DVec2]) {
                 *a *= *inv_m;
             }
         }
-    }
-}
-
-/// Calls `f(start, chunk)` for consecutive chunks of at most [`CHUNK`] bodies of `out`,
-/// split across threads in blocks of [`BLOCK`] when there are [`PARALLEL_MIN`] bodies or
-/// more. `f` must touch only its own chunk, so the result does not depend on threads.
-pub fn for_each_chunk(out: &mut [DVec2], f: impl Fn(usize, &mut [DVec2]) + Sync) {
-    let run = |start: usize, block: &mut [DVec2]| {
-        for (k, chunk) in block.chunks_mut(CHUNK).enumerate() {
-            f(start + k * CHUNK, chunk);
-        }
-    };
-    if out.len() < PARALLEL_MIN {
-        run(0, out);
-    } else {
-        out.par_chunks_mut(BLOCK)
-            .enumerate()
-            .for_each(|(b, block)| run(b * BLOCK, block));
-    }
-}
-
-/// Like [`for_each_chunk`] over the positions and velocities together: calls
-/// `f(start, pos, vel)` for matching chunks of both, for integrators that update each
-/// body on its own. Returns true when every call returned true.
-pub fn for_each_chunk_pair(
-    pos: &mut [DVec2],
-    vel: &mut [DVec2],
-    f: impl Fn(usize, &mut [DVec2], &mut [DVec2]) -> bool + Sync,
-) -> bool {
-    debug_assert_eq!(pos.len(), vel.len());
-    let run = |start: usize, pos: &mut [DVec2], vel: &mut [DVec2]| {
-        let mut all = true;
-        for (k, (p, v)) in pos.chunks_mut(CHUNK).zip(vel.chunks_mut(CHUNK)).enumerate() {
-            all &= f(start + k * CHUNK, p, v);
-        }
-        all
-    };
-    if pos.len() < PARALLEL_MIN {
-        run(0, pos, vel)
-    } else {
-        pos.par_chunks_mut(BLOCK)
-            .zip(vel.par_chunks_mut(BLOCK))
-            .enumerate()
-            .map(|(b, (p, v))| run(b * BLOCK, p, v))
-            .reduce(|| true, |a, b| a && b)
-    }
-}
-
-/// Returns true when every component of `pos` and `vel` is finite.
-///
-/// 0·x is ±0 for a finite x and NaN for an infinite or NaN one, and a sum of zeros and
-/// NaNs is NaN as soon as one term is: so the sums below are finite exactly when every
-/// number is. Four independent sums let the loop run on vector registers.
-pub fn all_finite(pos: &[DVec2], vel: &[DVec2]) -> bool {
-    debug_assert_eq!(pos.len(), vel.len());
-    #[cfg(target_arch = "x86_64")]
-    if wide_vectors() {
-        #[target_feature(enable = "avx2")]
-        unsafe fn wide(pos: &[DVec2], vel: &[DVec2]) -> bool {
-            all_finite_kernel(pos, vel)
-        }
-        // SAFETY: `wide_vectors` has checked that this processor has AVX2.
-        return unsafe { wide(pos, vel) };
-    }
-    all_finite_kernel(pos, vel)
-}
-
-/// The loop of [`all_finite`], to inline into loops compiled for wider registers.
-#[inline(always)]
-pub fn all_finite_kernel(pos: &[DVec2], vel: &[DVec2]) -> bool {
-    let mut sums = [DVec2::ZERO; 4];
-    let mut p4 = pos.chunks_exact(4);
-    let mut v4 = vel.chunks_exact(4);
-    for (p, v) in (&mut p4).zip(&mut v4) {
-        for j in 0..4 {
-            // 0·x: ±0 when x is finite, NaN otherwise.
-            sums[j] += p[j] * 0.0 + v[j] * 0.0;
-        }
-    }
-    for (p, v) in p4.remainder().iter().zip(v4.remainder()) {
-        sums[0] += *p * 0.0 + *v * 0.0;
-    }
-    (sums[0] + sums[1] + sums[2] + sums[3]).is_finite()
-}
-
-/// Returns true only when every component of `pos` and `vel` is finite, by one sum of
-/// them all: a sum is finite only if every term is (an infinity or NaN stays one). A
-/// false answer means that some value is not finite or that the sum overflowed, which
-/// [`all_finite`] can then tell apart. Cheaper than `all_finite`, for data in cache.
-#[inline(always)]
-pub fn sum_is_finite(pos: &[DVec2], vel: &[DVec2]) -> bool {
-    let mut sums = [DVec2::ZERO; 4];
-    let mut p4 = pos.chunks_exact(4);
-    let mut v4 = vel.chunks_exact(4);
-    for (p, v) in (&mut p4).zip(&mut v4) {
-        for j in 0..4 {
-            sums[j] += p[j] + v[j];
-        }
-    }
-    for (p, v) in p4.remainder().iter().zip(v4.remainder()) {
-        sums[0] += *p + *v;
-    }
-    (sums[0] + sums[1] + sums[2] + sums[3]).is_finite()
-}
-
-/// Whether the hot loops may use 256-bit AVX2 registers: 0 not yet known, 1 yes, 2 no.
-static WIDE_VECTORS: AtomicU8 = AtomicU8::new(0);
-
-/// Returns true when the hot loops run their AVX2 versions: when the processor has
-/// AVX2, unless [`use_wide_vectors`] turned them off. The same arithmetic runs either
-/// way (Rust never fuses a multiply and an add), so only the speed differs, not the
-/// bits.
-#[inline]
-pub fn wide_vectors() -> bool {
-    match WIDE_VECTORS.load(Ordering::Relaxed) {
-        1 => true,
-        2 => false,
-        _ => {
-            let wide = detect_avx2();
-            WIDE_VECTORS.store(if wide { 1 } else { 2 }, Ordering::Relaxed);
-            wide
-        }
-    }
-}
-
-/// Turns the AVX2 versions of the hot loops on (where the processor has AVX2) or off,
-/// for tests and measurements that compare the two.
-pub fn use_wide_vectors(enabled: bool) {
-    let wide = enabled && detect_avx2();
-    WIDE_VECTORS.store(if wide { 1 } else { 2 }, Ordering::Relaxed);
-}
-
-fn detect_avx2() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::is_x86_feature_detected!("avx2")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
     }
 }
 

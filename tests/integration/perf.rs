@@ -8,7 +8,7 @@ use physframes::render::bodies::BodyLook;
 use physframes::render::sprite::{SpriteSheet, GRID, PHASES};
 use physframes::render::{ArrowScales, BodyDrawing, Camera, FrameView, Renderer};
 use physframes::scene::{parse, Scene, Shape};
-use physframes::sim::system::use_wide_vectors;
+use physframes::sim::chunks::use_wide_vectors;
 use physframes::sim::{Selection, Simulation, State};
 use tiny_skia::{Color, Pixmap};
 

@@ -1,4 +1,3 @@
-
 use super::*;
 use tiny_skia::{Color, FillRule, Paint, PathBuilder, Transform};
 

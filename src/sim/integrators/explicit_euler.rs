@@ -3,7 +3,8 @@
 use glam::DVec2;
 
 use super::{euler_advance, Slopes};
-use crate::sim::system::{for_each_chunk_pair, sum_is_finite, wide_vectors, Coords};
+use crate::sim::chunks::{for_each_chunk_pair, sum_is_finite, wide_vectors};
+use crate::sim::state::Coords;
 use crate::sim::{State, System};
 
 /// Advances one step of explicit Euler.

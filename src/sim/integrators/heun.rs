@@ -4,7 +4,7 @@ use glam::DVec2;
 
 use super::euler_substep;
 use crate::sim::dof::Dof;
-use crate::sim::system::Coords;
+use crate::sim::state::Coords;
 use crate::sim::{State, System};
 
 /// Scratch buffers for Heun's method: the Euler predictor and the accelerations at both

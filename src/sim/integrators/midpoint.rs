@@ -4,7 +4,7 @@ use glam::DVec2;
 
 use super::euler_substep;
 use crate::sim::dof::Dof;
-use crate::sim::system::Coords;
+use crate::sim::state::Coords;
 use crate::sim::{State, System};
 
 /// Scratch buffers for the midpoint method: the state at the middle of the step and the

@@ -20,6 +20,7 @@ mod explicit_euler;
 mod heun;
 mod midpoint;
 mod rk4;
+mod step_control;
 mod symplectic_euler;
 mod velocity_verlet;
 
@@ -31,7 +32,7 @@ use glam::DVec2;
 use super::dof::Dof;
 use super::{State, System};
 
-pub use dopri5::{StepController, Tolerances};
+pub use step_control::{StepController, Tolerances};
 
 /// The integration methods a scene or the command line can choose.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]

@@ -3,7 +3,7 @@
 use glam::DVec2;
 
 use crate::sim::dof::Dof;
-use crate::sim::system::Coords;
+use crate::sim::state::Coords;
 use crate::sim::{State, System};
 
 /// Scratch buffers for RK4: one stage state, its acceleration, and the running weighted

@@ -3,7 +3,7 @@
 
 use super::Slopes;
 use crate::sim::dof::Dof;
-use crate::sim::system::Coords;
+use crate::sim::state::Coords;
 use crate::sim::{State, System};
 
 /// Advances one step of symplectic Euler and returns the number of force evaluations (1).

@@ -4,7 +4,7 @@
 use glam::DVec2;
 
 use crate::sim::dof::Dof;
-use crate::sim::system::Coords;
+use crate::sim::state::Coords;
 use crate::sim::{State, System};
 
 /// Scratch buffers for velocity Verlet, including the acceleration carried over from the
