@@ -5,6 +5,7 @@ mod bad_input;
 mod cli_extras;
 mod closed_forms;
 mod diagnostics;
+mod docs;
 mod figures;
 mod golden;
 mod integrators;
