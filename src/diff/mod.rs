@@ -182,7 +182,21 @@ impl DiffError {
     pub const EXIT_CODE: u8 = 2;
 }
 
-/// Compares two images pixel by pixel.
+/// Compares two images pixel by pixel: a pixel differs when one of its channels differs
+/// by more than `threshold`.
+///
+/// ```
+/// use image::{Rgba, RgbaImage};
+/// use physframes::diff::compare_images;
+///
+/// let expected = RgbaImage::from_pixel(4, 3, Rgba([10, 20, 30, 255]));
+/// let mut actual = expected.clone();
+/// actual.put_pixel(1, 1, Rgba([10, 25, 30, 255]));
+/// let diff = compare_images(&expected, &actual, 2).expect("same size");
+/// assert_eq!((diff.differing_pixels, diff.max_channel_delta), (1, 5));
+/// // Within a threshold of 5, the images are alike.
+/// assert_eq!(compare_images(&expected, &actual, 5).expect("same size").differing_pixels, 0);
+/// ```
 pub fn compare_images(
     expected: &RgbaImage,
     actual: &RgbaImage,

@@ -70,6 +70,32 @@ pub fn load(name_or_path: &str) -> Result<Scene> {
 
 /// Simulates `scene` up to frame `frame` and draws that frame, exactly as
 /// `physframes render` draws it.
+///
+/// ```
+/// use std::path::Path;
+/// use physframes::{figures, scene};
+///
+/// let text = r##"
+///     [render]
+///     width = 64
+///     height = 48
+///     fps = 10
+///     view = { min = [-2.0, -1.5], max = [2.0, 1.5] }
+///     [[body]]
+///     mass = 1.0
+///     velocity = [1.0, 0.0]
+///     color = "#ff0000"
+///     shape = { circle = { radius = 0.3 } }
+/// "##;
+/// let scene = scene::parse(Path::new("one.toml"), text).expect("a valid scene");
+/// let pixmap = figures::render_frame(&scene, 0).expect("drawn");
+/// assert_eq!((pixmap.width(), pixmap.height()), (64, 48));
+/// // The red disc is at the centre of the image at t = 0; the corner is background.
+/// let centre = pixmap.pixel(32, 24).expect("inside");
+/// assert_eq!((centre.red(), centre.green()), (255, 0));
+/// assert_eq!(pixmap.pixel(0, 0).expect("inside").red(), 255);
+/// assert_eq!(pixmap.pixel(0, 0).expect("inside").green(), 255);
+/// ```
 pub fn render_frame(scene: &Scene, frame: u64) -> Result<Pixmap> {
     let frame_count = scene.render.frame_count;
     if frame >= frame_count {

@@ -22,7 +22,35 @@ use toml::de::{DeTable, DeValue, Deserializer};
 use super::raw::RawScene;
 use super::{overrides, validate, Diagnostic, Scene, SceneError, Sources};
 
-/// Parses and validates the text of a scene file read from `path`.
+/// Parses and validates the text of a scene file read from `path` (which only names it
+/// in messages); [`Scene::load`] reads the file too.
+///
+/// ```
+/// use std::path::Path;
+/// use physframes::scene::parse;
+///
+/// let text = r#"
+///     [render]
+///     view = { min = [-1.0, -1.0], max = [1.0, 1.0] }
+///     fps = 25
+///     [[body]]
+///     name = "puck"
+///     mass = 2.0
+///     velocity = [1.0, 0.0]
+///     [[force]]
+///     kind = "drag"
+///     k = 0.5
+/// "#;
+/// let scene = parse(Path::new("puck.toml"), text).expect("a valid scene");
+/// assert_eq!(scene.name, "puck");
+/// assert_eq!(scene.bodies[0].mass, 2.0);
+///
+/// // Every problem is reported with its line and column.
+/// let bad = text.replace("mass = 2.0", "mass = -2.0");
+/// let error = parse(Path::new("puck.toml"), &bad).unwrap_err().to_string();
+/// assert!(error.contains("`mass` must be > 0"));
+/// assert!(error.contains("puck.toml:7:12"));
+/// ```
 pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
     parse_with_overrides(path, text, &[])
 }

@@ -258,6 +258,22 @@ impl Simulation {
 
     /// Advances to time `t_end`.
     ///
+    /// ```
+    /// use glam::DVec2;
+    /// use physframes::sim::{ForceSpec, IntegratorKind, Selection, Simulation, State, System};
+    ///
+    /// // The article's Equation 12: drag F = -v on a body of mass 1, from v0 = 2.
+    /// let drag = [ForceSpec::Drag { k: 1.0, bodies: Selection::All }];
+    /// let system = System::new(vec![1.0], &drag);
+    /// let start = State::new(0.0, vec![DVec2::ZERO], vec![DVec2::new(2.0, 0.0)]);
+    /// let h = 0.001;
+    /// let mut sim = Simulation::new(system, start, IntegratorKind::Euler, h);
+    /// sim.advance_to(1.0).expect("drag stays finite");
+    /// // Explicit Euler gives exactly v_n = v0·(1 - h·k/m)^n, after n = 1000 steps.
+    /// let v = sim.state().vel[0].x;
+    /// assert!((v - 2.0 * (1.0 - h).powi(1000)).abs() < 1e-12);
+    /// assert_eq!(sim.steps(), 1000);
+    /// ```
     /// With a fixed step, it advances to the step nearest `t_end` (which should be a
     /// whole number of steps from the start; frame times are, by validation).
     ///
