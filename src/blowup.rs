@@ -55,6 +55,7 @@ impl EnergyWatch {
             step: sim.steps(),
             t: s.t,
             quantity: ENERGY,
+            overlap: None,
         })
     }
 }

@@ -12,6 +12,7 @@
 
 pub mod baseline;
 pub mod chunks;
+pub mod contacts;
 pub mod dof;
 mod energy;
 pub mod exact;
@@ -24,9 +25,10 @@ pub mod state;
 pub mod system;
 
 pub use baseline::HandWrittenEuler;
+pub use contacts::{ContactEvent, Contacts};
 pub use forces::{Anchor, ForceSpec, Selection};
 pub use integrators::{Integrator, IntegratorKind, Stepper, Tolerances};
 pub use scalar_ode::ScalarMethod;
-pub use simulation::{BlowUp, Simulation, MAX_ADAPTIVE_STEPS_PER_ADVANCE, STIFF};
+pub use simulation::{BlowUp, Simulation, MAX_ADAPTIVE_STEPS_PER_ADVANCE, OVERLAP, STIFF};
 pub use state::{Coords, State};
 pub use system::System;

@@ -4,6 +4,7 @@ use std::fmt;
 
 use glam::DVec2;
 
+use super::contacts::{ContactEvent, Contacts, Overlap};
 use super::integrators::{StepController, Tolerances};
 use super::state::Coords;
 use super::{IntegratorKind, State, Stepper, System};
@@ -16,6 +17,10 @@ pub const MAX_ADAPTIVE_STEPS_PER_ADVANCE: u64 = 1_000_000;
 /// size driven towards zero by a stiff scene.
 pub const STIFF: &str = "adaptive step size";
 
+/// The `quantity` of a [`BlowUp`] that is two bodies left overlapping deeper than the
+/// contact tolerance after a step (see [`BlowUp::overlap`]).
+pub const OVERLAP: &str = "overlap";
+
 /// A simulation whose state stopped being finite.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BlowUp {
@@ -26,12 +31,21 @@ pub struct BlowUp {
     /// The simulated time at the end of that step.
     pub t: f64,
     /// The quantity that stopped being finite: "position", "velocity", "angle" or
-    /// "angular velocity".
+    /// "angular velocity"; or [`STIFF`], or [`OVERLAP`].
     pub quantity: &'static str,
+    /// For [`OVERLAP`]: the two bodies and how deep they overlap.
+    pub overlap: Option<Overlap>,
 }
 
 impl fmt::Display for BlowUp {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if let Some(o) = self.overlap {
+            return write!(
+                f,
+                "bodies #{} and #{} overlap by {:e} after step {} (t = {})",
+                o.a, o.b, o.depth, self.step, self.t
+            );
+        }
         if self.quantity == STIFF {
             return write!(
                 f,
@@ -69,6 +83,16 @@ pub struct Simulation {
     t0: f64,
     steps: u64,
     adaptive: Option<Adaptive>,
+    /// Collisions, for a scene with `[contacts]`.
+    contacts: Option<Box<Colliding>>,
+}
+
+/// What a simulation with collisions keeps: the contacts, and the state at the start of
+/// the step being taken (the start of every body's path through it).
+#[derive(Clone, Debug)]
+struct Colliding {
+    contacts: Contacts,
+    start: State,
 }
 
 /// The step-size control of an adaptive run.
@@ -120,7 +144,45 @@ impl Simulation {
             t0,
             steps: 0,
             adaptive,
+            contacts: None,
         }
+    }
+
+    /// Makes the bodies of `contacts` collide, and returns the simulation. When an
+    /// impulse can turn a body (any collider that is not a disc and can move), the
+    /// system is made to spin.
+    pub fn with_contacts(mut self, contacts: Contacts) -> Self {
+        let inv = self.system.inverse_masses();
+        let turnable = contacts.colliders().iter().any(|c| {
+            inv[c.body] > 0.0 && !matches!(c.shape, super::contacts::ColliderShape::Disc { .. })
+        });
+        if turnable && !self.system.spins() && self.system.inertia().is_some() {
+            self.system.start_spinning();
+            self.stepper = Stepper::new(self.stepper.kind(), &self.system);
+        }
+        let start = self.state.clone();
+        self.contacts = Some(Box::new(Colliding { contacts, start }));
+        self
+    }
+
+    /// Returns the contacts of a simulation with collisions.
+    pub fn contacts(&self) -> Option<&Contacts> {
+        self.contacts.as_deref().map(|c| &c.contacts)
+    }
+
+    /// Starts or stops recording every impulse for [`Simulation::take_contact_events`].
+    pub fn record_contacts(&mut self, on: bool) {
+        if let Some(c) = &mut self.contacts {
+            c.contacts.record(on);
+        }
+    }
+
+    /// Returns the impulses applied since the last call, in the order they were
+    /// applied (empty without collisions or recording).
+    pub fn take_contact_events(&mut self) -> Vec<ContactEvent> {
+        self.contacts
+            .as_mut()
+            .map_or_else(Vec::new, |c| c.contacts.take_log())
     }
 
     /// Sets the tolerances of an adaptive method (ignored by a fixed-step one), and
@@ -171,10 +233,16 @@ impl Simulation {
         t0: f64,
         steps: u64,
     ) -> Self {
-        let mut sim = Simulation::new(system, state, kind, h);
-        sim.t0 = t0;
-        sim.steps = steps;
-        sim
+        Simulation::new(system, state, kind, h).continuing(t0, steps)
+    }
+
+    /// Returns the simulation, whose state is that of a run that started at `t0` and
+    /// has taken `steps` steps, counting its time from there (see
+    /// [`Simulation::restore`]).
+    pub fn continuing(mut self, t0: f64, steps: u64) -> Self {
+        self.t0 = t0;
+        self.steps = steps;
+        self
     }
 
     /// Returns the current state.
@@ -232,11 +300,54 @@ impl Simulation {
         if self.adaptive.is_some() {
             return self.adaptive_step(f64::INFINITY);
         }
+        self.remember_start();
+        let t_start = self.state.t;
         self.stepper.step(&self.system, self.h, &mut self.state);
         self.steps += 1;
         // t_n = t0 + n·h, computed rather than summed.
         self.state.t = self.t0 + self.steps as f64 * self.h;
-        self.check_finite()
+        self.check_finite()?;
+        self.collide(t_start)
+    }
+
+    /// Keeps the state at the start of the step about to be taken, for collisions.
+    fn remember_start(&mut self) {
+        if let Some(c) = &mut self.contacts {
+            let (from, to) = (&self.state, &mut c.start);
+            to.t = from.t;
+            to.pos.copy_from_slice(&from.pos);
+            to.vel.copy_from_slice(&from.vel);
+            to.angle.copy_from_slice(&from.angle);
+            to.omega.copy_from_slice(&from.omega);
+        }
+    }
+
+    /// Resolves the collisions of the step just taken from `t_start`; a step that
+    /// changed any velocity makes the stepper forget what it carries over (velocity
+    /// Verlet's last acceleration, dopri5's last stage), which belonged to the state
+    /// before the impulses.
+    fn collide(&mut self, t_start: f64) -> Result<(), BlowUp> {
+        let Some(c) = &mut self.contacts else {
+            return Ok(());
+        };
+        let t_end = self.state.t;
+        match c
+            .contacts
+            .resolve(&self.system, &c.start, &mut self.state, t_start, t_end)
+        {
+            Ok(false) => Ok(()),
+            Ok(true) => {
+                self.stepper.reset();
+                Ok(())
+            }
+            Err(o) => Err(BlowUp {
+                body: o.a,
+                step: self.steps,
+                t: t_end,
+                quantity: OVERLAP,
+                overlap: Some(o),
+            }),
+        }
     }
 
     /// Takes one step that ends at or before `t_limit`: an adaptive method shortens its
@@ -299,6 +410,7 @@ impl Simulation {
                         step: self.steps,
                         t: self.state.t,
                         quantity: STIFF,
+                        overlap: None,
                     });
                 }
             }
@@ -319,6 +431,7 @@ impl Simulation {
     /// accepted whatever its error: when the error is only round-off, the run goes on;
     /// when the state has stopped being finite, the check that follows reports it.
     fn adaptive_step(&mut self, t_limit: f64) -> Result<(), BlowUp> {
+        self.remember_start();
         let Some(adaptive) = self.adaptive.as_mut() else {
             return Ok(());
         };
@@ -355,11 +468,11 @@ impl Simulation {
                 // check to take (an atomic exchange, which waits for every store of the
                 // step). Otherwise no stale record may vouch for it: the check reads
                 // the state.
-                if finite {
-                    return Ok(());
+                if !finite {
+                    self.system.record_finite_step(&self.state.pos, false);
+                    self.check_finite()?;
                 }
-                self.system.record_finite_step(&self.state.pos, false);
-                return self.check_finite();
+                return self.collide(t);
             }
             adaptive.rejected += 1;
             h = h_new;
@@ -395,6 +508,7 @@ impl Simulation {
                 step: self.steps,
                 t: s.t,
                 quantity,
+                overlap: None,
             });
         }
         // Finite terms can overflow when summed; that is not a blow-up of any body.

@@ -89,7 +89,8 @@ impl System {
     /// coordinates in which forces' `at` points and springs' anchors are given), and
     /// the validated force specifications.
     ///
-    /// Every mass must be finite and positive, and every moment of inertia finite and
+    /// Every mass must be finite and positive, or zero for a static body (which no
+    /// force moves: 1/M = 0 and 1/I = 0), and every moment of inertia finite and
     /// positive or zero; a body whose moment of inertia is zero (point masses all at
     /// one point) has 1/I taken as 0, and never turns: the scene validator refuses
     /// any torque on it.
@@ -114,10 +115,16 @@ impl System {
     }
 
     fn build(mass: Vec<f64>, forces: &[ForceSpec], rigid: Option<Rigid>) -> Self {
-        debug_assert!(mass.iter().all(|m| m.is_finite() && *m > 0.0));
-        let inv_mass: Vec<f64> = mass.iter().map(|m| 1.0 / m).collect();
+        debug_assert!(mass.iter().all(|m| m.is_finite() && *m >= 0.0));
+        // A mass of zero marks a static body: 1/M = 0, so no force moves it.
+        let inv_mass: Vec<f64> = mass
+            .iter()
+            .map(|&m| if m > 0.0 { 1.0 / m } else { 0.0 })
+            .collect();
         let uniform_mass = match mass.first() {
-            Some(&m) if mass.iter().all(|x| x.to_bits() == m.to_bits()) => Some((m, inv_mass[0])),
+            Some(&m) if m > 0.0 && mass.iter().all(|x| x.to_bits() == m.to_bits()) => {
+                Some((m, inv_mass[0]))
+            }
             _ => None,
         };
         let forces = ForceSet::new(forces, mass.len(), rigid.as_ref().map(|r| &r.centre[..]));
@@ -173,6 +180,17 @@ impl System {
     /// Returns the mass of every body.
     pub fn masses(&self) -> &[f64] {
         &self.mass
+    }
+
+    /// Returns 1/M of every body: 0 for a static body (mass 0), which nothing moves.
+    pub fn inverse_masses(&self) -> &[f64] {
+        &self.inv_mass
+    }
+
+    /// Returns 1/I of every body (0 for one that cannot turn, static bodies among
+    /// them), or `None` for a system built with [`System::new`].
+    pub fn inverse_inertia(&self) -> Option<&[f64]> {
+        self.rigid.as_ref().map(|r| &r.inv_inertia[..])
     }
 
     /// Returns the mass every body has when all masses are equal (to the bit), and

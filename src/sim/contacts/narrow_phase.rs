@@ -1,0 +1,301 @@
+//! The narrow phase: where two shapes at given poses touch, how far apart they are, and
+//! along which normal.
+//!
+//! Two discs are a closed form. Every pair with a polygon asks parry (the geometry
+//! under Rapier) for its contact manifold, at most two points in 2-D: a box lying flat
+//! on a floor touches it along an edge, and the impulse is then applied at the middle of
+//! the points that touch (within the tolerance of the deepest), so that a flat landing
+//! does not set the box spinning. Normals point from body b to body a, as in the
+//! article's impulse equation.
+
+use glam::DVec2;
+use parry2d_f64::math::{Pose as ParryPose, Rot2};
+use parry2d_f64::query::details::{contact_manifold_convex_ball, contact_manifold_pfm_pfm};
+use parry2d_f64::query::{self, ContactManifold};
+
+use super::collider::{from_parry, to_parry, Collider, ColliderShape};
+use crate::sim::rigid::rotate;
+
+/// Where a body is: its centre of mass r and its angle θ, with (sin θ, cos θ).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pose {
+    pub r: DVec2,
+    pub angle: f64,
+    pub sin_cos: (f64, f64),
+}
+
+impl Pose {
+    /// Returns the pose with its centre of mass at r, turned by θ.
+    #[inline]
+    pub fn new(r: DVec2, angle: f64) -> Self {
+        Pose {
+            r,
+            angle,
+            sin_cos: angle.sin_cos(),
+        }
+    }
+
+    /// Returns the world position of the shape point q: r + R(θ)·q.
+    #[inline]
+    pub fn apply(&self, q: DVec2) -> DVec2 {
+        self.r + rotate(self.sin_cos, q)
+    }
+
+    fn to_parry(self) -> ParryPose {
+        let (s, c) = self.sin_cos;
+        ParryPose::from_parts(to_parry(self.r), Rot2::from_cos_sin_unchecked(c, s))
+    }
+}
+
+/// Where two bodies touch or come closest.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Contact {
+    /// The signed distance between the shapes: positive apart, negative overlapping.
+    pub gap: f64,
+    /// The unit normal, pointing from body b to body a.
+    pub normal: DVec2,
+    /// The world point where the impulse acts: the middle of the closest points.
+    pub point: DVec2,
+}
+
+/// Returns the contact of a at `pa` and b at `pb` when their gap is at most
+/// `prediction`, or `None` when they are farther apart.
+///
+/// `tol` is the contact tolerance: manifold points within `tol` of the closest one all
+/// count, and the contact point is their middle.
+pub fn contact(
+    a: &Collider,
+    pa: &Pose,
+    b: &Collider,
+    pb: &Pose,
+    prediction: f64,
+    tol: f64,
+) -> Option<Contact> {
+    match (&a.shape, &b.shape) {
+        (ColliderShape::Disc { radius: ra }, ColliderShape::Disc { radius: rb }) => {
+            discs(pa.r, *ra, pb.r, *rb, prediction)
+        }
+        (ColliderShape::Convex { shape: sa, .. }, ColliderShape::Convex { shape: sb, .. }) => {
+            let mut m = ContactManifold::<(), ()>::new();
+            let pos12 = pa.to_parry().inv_mul(&pb.to_parry());
+            contact_manifold_pfm_pfm(
+                &pos12,
+                sa.as_ref(),
+                0.0,
+                None,
+                sb.as_ref(),
+                0.0,
+                None,
+                prediction,
+                &mut m,
+            );
+            from_manifold(&m, pa, pb, tol)
+        }
+        (ColliderShape::Convex { shape: sa, .. }, ColliderShape::Disc { .. }) => {
+            let ball = b.ball()?;
+            let mut m = ContactManifold::<(), ()>::new();
+            let pos12 = pa.to_parry().inv_mul(&pb.to_parry());
+            contact_manifold_convex_ball(
+                &pos12,
+                sa.as_ref(),
+                &ball,
+                None,
+                None,
+                prediction,
+                &mut m,
+                false,
+            );
+            from_manifold(&m, pa, pb, tol)
+        }
+        (ColliderShape::Disc { .. }, ColliderShape::Convex { .. }) => {
+            // The same query with the roles swapped, and the normal turned back.
+            contact(b, pb, a, pa, prediction, tol).map(|c| Contact {
+                normal: -c.normal,
+                ..c
+            })
+        }
+    }
+}
+
+/// Returns the signed distance between a and b, with a normal from b to a and the
+/// closest points' middle, however far apart they are: what conservative advancement
+/// needs (parry's GJK and EPA for polygons).
+pub fn separation(a: &Collider, pa: &Pose, b: &Collider, pb: &Pose) -> Option<Contact> {
+    if let (ColliderShape::Disc { radius: ra }, ColliderShape::Disc { radius: rb }) =
+        (&a.shape, &b.shape)
+    {
+        return discs(pa.r, *ra, pb.r, *rb, f64::INFINITY);
+    }
+    let ga: &dyn parry2d_f64::shape::Shape = match &a.shape {
+        ColliderShape::Convex { shape, .. } => shape.as_ref(),
+        ColliderShape::Disc { .. } => return separation_ball(a, pa, b, pb),
+    };
+    let ball_b;
+    let gb: &dyn parry2d_f64::shape::Shape = match &b.shape {
+        ColliderShape::Convex { shape, .. } => shape.as_ref(),
+        ColliderShape::Disc { radius } => {
+            ball_b = parry2d_f64::shape::Ball::new(*radius);
+            &ball_b
+        }
+    };
+    let c = query::contact(&pa.to_parry(), ga, &pb.to_parry(), gb, f64::MAX).ok()??;
+    // parry's normal1 points from a towards b, in world axes.
+    let normal = -from_parry(c.normal1);
+    Some(Contact {
+        gap: c.dist,
+        normal,
+        point: 0.5 * (from_parry(c.point1) + from_parry(c.point2)),
+    })
+}
+
+/// The disc-first case of [`separation`], by symmetry.
+fn separation_ball(a: &Collider, pa: &Pose, b: &Collider, pb: &Pose) -> Option<Contact> {
+    separation(b, pb, a, pa).map(|c| Contact {
+        normal: -c.normal,
+        ..c
+    })
+}
+
+/// Two discs: the gap is |r_a - r_b| - (ρ_a + ρ_b), the normal (r_a - r_b)/|r_a - r_b|,
+/// and the point the middle of the two closest surface points.
+#[inline]
+fn discs(ra: DVec2, rad_a: f64, rb: DVec2, rad_b: f64, prediction: f64) -> Option<Contact> {
+    let d = ra - rb;
+    let dist = d.length();
+    let gap = dist - (rad_a + rad_b);
+    if gap > prediction {
+        return None;
+    }
+    // Concentric discs have no normal; any unit vector is as good as another, and a
+    // fixed one keeps the run deterministic.
+    let normal = if dist > 0.0 { d / dist } else { DVec2::Y };
+    // The surface points: r_a - ρ_a·n on a and r_b + ρ_b·n on b.
+    let point = 0.5 * ((ra - rad_a * normal) + (rb + rad_b * normal));
+    Some(Contact { gap, normal, point })
+}
+
+/// Turns a parry manifold (points in a's frame, normal from a to b in a's frame) into
+/// a contact: the closest distance, the normal from b to a in world axes, and the middle
+/// of the points within `tol` of the closest.
+fn from_manifold(m: &ContactManifold<(), ()>, pa: &Pose, pb: &Pose, tol: f64) -> Option<Contact> {
+    let gap = m
+        .points
+        .iter()
+        .map(|p| p.dist)
+        .fold(f64::INFINITY, f64::min);
+    if !gap.is_finite() {
+        return None;
+    }
+    let mut sum = DVec2::ZERO;
+    let mut count = 0.0;
+    for p in m.points.iter().filter(|p| p.dist <= gap + tol) {
+        let on_a = pa.apply(from_parry(p.local_p1));
+        let on_b = pb.apply(from_parry(p.local_p2));
+        sum += 0.5 * (on_a + on_b);
+        count += 1.0;
+    }
+    let normal = -rotate(pa.sin_cos, from_parry(m.local_n1));
+    Some(Contact {
+        gap,
+        normal,
+        point: sum / count,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn at(x: f64, y: f64, angle: f64) -> Pose {
+        Pose::new(DVec2::new(x, y), angle)
+    }
+
+    #[test]
+    fn two_discs_touch_along_the_line_of_their_centres() {
+        let a = Collider::disc(0, 1.0, 1.0);
+        let b = Collider::disc(1, 0.5, 1.0);
+        let c = contact(&a, &at(3.0, 0.0, 0.0), &b, &at(0.0, 0.0, 0.0), 10.0, 1e-9)
+            .expect("within the prediction");
+        assert_eq!(c.gap, 1.5);
+        assert_eq!(c.normal, DVec2::X);
+        // Closest points (2, 0) on a and (0.5, 0) on b: their middle is 1.25.
+        assert_eq!(c.point, DVec2::new(1.25, 0.0));
+        assert!(contact(&a, &at(3.0, 0.0, 0.0), &b, &at(0.0, 0.0, 0.0), 1.0, 1e-9).is_none());
+    }
+
+    #[test]
+    fn a_box_flat_on_a_floor_touches_at_the_middle_of_its_bottom_edge() {
+        // A 1 × 1 box 1e-3 above a 10 × 1 floor whose top is y = 0.
+        let bx = Collider::rectangle(0, 1.0, 1.0, 1.0);
+        let floor = Collider::rectangle(1, 10.0, 1.0, 1.0);
+        let c = contact(
+            &bx,
+            &at(0.3, 0.501, 0.0),
+            &floor,
+            &at(0.0, -0.5, 0.0),
+            0.1,
+            1e-6,
+        )
+        .expect("close enough");
+        assert!((c.gap - 1e-3).abs() < 1e-12, "gap {}", c.gap);
+        assert!(
+            (c.normal - DVec2::Y).length() < 1e-12,
+            "normal {}",
+            c.normal
+        );
+        assert!(
+            (c.point - DVec2::new(0.3, 0.0005)).length() < 1e-12,
+            "point {}",
+            c.point
+        );
+        // Turned by 45°, it stands on its corner: the contact is that corner.
+        let q = std::f64::consts::FRAC_PI_4;
+        let h = 0.5 * 2f64.sqrt();
+        let c = contact(
+            &bx,
+            &at(0.0, h + 1e-3, q),
+            &floor,
+            &at(0.0, -0.5, 0.0),
+            0.1,
+            1e-6,
+        )
+        .expect("close enough");
+        assert!((c.gap - 1e-3).abs() < 1e-12, "gap {}", c.gap);
+        assert!(c.point.x.abs() < 1e-12, "point {}", c.point);
+    }
+
+    #[test]
+    fn a_disc_against_a_box_has_its_normal_from_the_box_face() {
+        let disc = Collider::disc(0, 0.5, 1.0);
+        let wall = Collider::rectangle(1, 1.0, 4.0, 1.0);
+        // The disc right of the wall (wall face at x = 0.5), 0.25 away.
+        let c = contact(
+            &disc,
+            &at(1.25, 0.7, 0.0),
+            &wall,
+            &at(0.0, 0.0, 0.0),
+            1.0,
+            1e-9,
+        )
+        .expect("close");
+        assert!((c.gap - 0.25).abs() < 1e-12);
+        assert!((c.normal - DVec2::X).length() < 1e-12);
+        // Swapped, the normal still points from the second body to the first.
+        let c = contact(
+            &wall,
+            &at(0.0, 0.0, 0.0),
+            &disc,
+            &at(1.25, 0.7, 0.0),
+            1.0,
+            1e-9,
+        )
+        .expect("close");
+        assert!((c.normal + DVec2::X).length() < 1e-12);
+        let s = separation(&disc, &at(5.0, 0.0, 0.0), &wall, &at(0.0, 0.0, 0.0))
+            .expect("parry answers");
+        assert!((s.gap - 4.0).abs() < 1e-12 && (s.normal - DVec2::X).length() < 1e-12);
+        let s = separation(&wall, &at(0.0, 0.0, 0.0), &disc, &at(5.0, 0.0, 0.0))
+            .expect("parry answers");
+        assert!((s.gap - 4.0).abs() < 1e-12 && (s.normal + DVec2::X).length() < 1e-12);
+    }
+}

@@ -1,0 +1,472 @@
+//! The order of a step's contact stages: broad phase, times of impact, impacts taken
+//! in time order, resting contacts at the step's end, and the overlap check (see the
+//! module's notes in `mod.rs`).
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+use glam::DVec2;
+use parry2d_f64::bounding_volume::Aabb;
+
+use super::broad_phase::{overlap, swept_box, BroadPhase};
+use super::narrow_phase::{contact, Contact, Pose};
+use super::response::{collide, normal_velocity, Inverse, Side};
+use super::toi::{time_of_impact, Path};
+use super::{inverse, ContactEvent, Contacts, Overlap};
+use crate::sim::{State, System};
+
+/// Sweeps over the contacts that touch at the step's end before the step gives up on
+/// making every one of them part (a tall stack of plastic bodies converges slowly;
+/// what is left approaches so slowly that the next step takes it up).
+const MAX_END_SWEEPS: usize = 100;
+
+/// Impulses in one step past which every further one is plastic (e = 0), so that a
+/// body wedged exactly between two others with e = 1, which would bounce between them
+/// forever at one instant, lets the step end. It is far above what a scene meets: one
+/// impulse per body per step is already a violent scene.
+const IMPULSES_PER_BODY: usize = 100;
+
+/// The buffers of a step's contact stages, kept between steps so that a step
+/// allocates nothing once they have grown.
+#[derive(Default)]
+pub(super) struct Scratch {
+    paths: Vec<Path>,
+    inv: Vec<Inverse>,
+    version: Vec<u32>,
+    changed: Vec<bool>,
+    changed_list: Vec<u32>,
+    boxes: Vec<Aabb>,
+    pairs: Vec<(u32, u32)>,
+    found: Vec<(u32, u32)>,
+    heap: BinaryHeap<Reverse<Event>>,
+    broad: BroadPhase,
+    query: Vec<u32>,
+    touching: Vec<(u32, u32, Contact)>,
+}
+
+/// An impact of colliders i < j at step fraction λ, valid while neither has been
+/// struck since it was found (their versions then are `vi` and `vj`). Ordered by λ,
+/// then i, then j: the order impacts are taken in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+struct Event {
+    /// λ ≥ 0 as bits, which order as the numbers do.
+    lambda: u64,
+    i: u32,
+    j: u32,
+    vi: u32,
+    vj: u32,
+}
+
+impl Contacts {
+    /// Resolves the contacts of one step that took the bodies from `start` (at t0) to
+    /// `end` (at t1), changing `end` where impulses act, and returns whether anything
+    /// changed; or the deepest overlap left.
+    pub fn resolve(
+        &mut self,
+        system: &System,
+        start: &State,
+        end: &mut State,
+        t0: f64,
+        t1: f64,
+    ) -> Result<bool, Overlap> {
+        if self.colliders.len() < 2 {
+            return Ok(false);
+        }
+        let spins = system.spins();
+        let inv_mass = system.inverse_masses();
+        let inv_inertia = system.inverse_inertia();
+        let Contacts {
+            colliders,
+            tolerance,
+            logging,
+            log,
+            scratch: s,
+        } = self;
+        let n = colliders.len();
+        let h = t1 - t0;
+        let tol = |i: usize, j: usize| {
+            tolerance.unwrap_or(super::DEFAULT_TOLERANCE * colliders[i].size.min(colliders[j].size))
+        };
+        let margin = |i: usize| tolerance.unwrap_or(super::DEFAULT_TOLERANCE * colliders[i].size);
+
+        // Each body's path through the step, from what the integrator did.
+        s.paths.clear();
+        s.inv.clear();
+        for c in colliders.iter() {
+            let b = c.body;
+            let inertia = match (spins, inv_inertia) {
+                (true, Some(ii)) => ii[b],
+                _ => 0.0,
+            };
+            s.inv.push(inverse(inv_mass[b], inertia));
+            let (a0, a1, w0, w1) = if spins {
+                (start.angle[b], end.angle[b], start.omega[b], end.omega[b])
+            } else {
+                (start.angle[b], start.angle[b], 0.0, 0.0)
+            };
+            s.paths.push(Path {
+                lambda: 0.0,
+                r: start.pos[b],
+                angle: a0,
+                dr: end.pos[b] - start.pos[b],
+                dangle: a1 - a0,
+                v: start.vel[b],
+                omega: w0,
+                dv: end.vel[b] - start.vel[b],
+                domega: w1 - w0,
+            });
+        }
+        let fixed = |inv: &[Inverse], i: usize| inv[i].mass == 0.0 && inv[i].inertia == 0.0;
+        s.version.clear();
+        s.version.resize(n, 0);
+        s.changed.clear();
+        s.changed.resize(n, false);
+        s.changed_list.clear();
+        s.found.clear();
+        s.heap.clear();
+
+        // 1. The pairs whose swept boxes overlap.
+        s.boxes.clear();
+        for (k, c) in colliders.iter().enumerate() {
+            s.boxes.push(swept_box(c, &s.paths[k], margin(k)));
+        }
+        s.broad.build(s.boxes.iter().copied(), &mut s.pairs);
+        {
+            let inv = &s.inv;
+            s.pairs
+                .retain(|&(i, j)| !(fixed(inv, i as usize) && fixed(inv, j as usize)));
+        }
+
+        // 2. The first impact of each pair.
+        for &(i, j) in &s.pairs {
+            let (iu, ju) = (i as usize, j as usize);
+            if let Some(lambda) = time_of_impact(
+                &colliders[iu],
+                &s.paths[iu],
+                &colliders[ju],
+                &s.paths[ju],
+                0.0,
+                tol(iu, ju),
+            ) {
+                s.heap.push(Reverse(Event {
+                    lambda: lambda.to_bits(),
+                    i,
+                    j,
+                    vi: 0,
+                    vj: 0,
+                }));
+            }
+        }
+
+        // 3. Impacts in time order.
+        let cap = IMPULSES_PER_BODY * n + 10_000;
+        let mut impulses = 0usize;
+        while let Some(Reverse(ev)) = s.heap.pop() {
+            let (i, j) = (ev.i as usize, ev.j as usize);
+            if ev.vi != s.version[i] || ev.vj != s.version[j] {
+                continue;
+            }
+            let lambda = f64::from_bits(ev.lambda);
+            let (pi, pj) = (s.paths[i].pose(lambda), s.paths[j].pose(lambda));
+            let t = tol(i, j);
+            let Some(ct) = contact(&colliders[i], &pi, &colliders[j], &pj, 2.0 * t, t) else {
+                continue;
+            };
+            let (vi, wi) = s.paths[i].velocity(lambda);
+            let (vj, wj) = s.paths[j].velocity(lambda);
+            let mut a = Side {
+                inv: s.inv[i],
+                centre: pi.r,
+                v: vi,
+                omega: wi,
+            };
+            let mut b = Side {
+                inv: s.inv[j],
+                centre: pj.r,
+                v: vj,
+                omega: wj,
+            };
+            if normal_velocity(&a, &b, ct.point, ct.normal) < 0.0 {
+                let e = if impulses < cap {
+                    colliders[i].restitution.max(colliders[j].restitution)
+                } else {
+                    0.0
+                };
+                impulses += 1;
+                let imp = collide(&mut a, &mut b, ct.point, ct.normal, e);
+                if *logging {
+                    log.push(ContactEvent {
+                        t: t0 + lambda * h,
+                        a: colliders[i].body,
+                        b: colliders[j].body,
+                        point: ct.point,
+                        normal: ct.normal,
+                        vn_before: imp.vn_before,
+                        vn_after: imp.vn_after,
+                        impulse: imp.j,
+                    });
+                }
+                s.paths[i] = restart(&s.paths[i], lambda, a.v - vi, a.omega - wi, h, DVec2::ZERO);
+                s.paths[j] = restart(&s.paths[j], lambda, b.v - vj, b.omega - wj, h, DVec2::ZERO);
+            } else {
+                // They touch and their velocities part, but their paths still close
+                // (the path is the step's chord, the velocity its tangent): the rest
+                // of both paths is moved apart along n, shared by inverse mass, so that
+                // neither passes into the other. No velocity changes, so no energy or
+                // momentum does, and nothing is logged.
+                let ua = s.paths[i].point_rate(pi.r, ct.point);
+                let ub = s.paths[j].point_rate(pj.r, ct.point);
+                let closing = (ua - ub).dot(ct.normal);
+                let total = s.inv[i].mass + s.inv[j].mass;
+                if closing >= 0.0 || total == 0.0 {
+                    continue;
+                }
+                let shift = -closing / total * ct.normal;
+                s.paths[i] = restart(
+                    &s.paths[i],
+                    lambda,
+                    DVec2::ZERO,
+                    0.0,
+                    h,
+                    shift * s.inv[i].mass,
+                );
+                s.paths[j] = restart(
+                    &s.paths[j],
+                    lambda,
+                    DVec2::ZERO,
+                    0.0,
+                    h,
+                    -shift * s.inv[j].mass,
+                );
+            }
+            for k in [i, j] {
+                if fixed(&s.inv, k) {
+                    continue;
+                }
+                s.version[k] += 1;
+                requery(
+                    k,
+                    lambda,
+                    colliders,
+                    s,
+                    &margin,
+                    &tol,
+                    &|inv: &[Inverse], a: usize, b: usize| fixed(inv, a) && fixed(inv, b),
+                );
+            }
+        }
+
+        // The end of every struck body's path is where the step leaves it.
+        for &k in &s.changed_list {
+            let k = k as usize;
+            let p = &s.paths[k];
+            let b = colliders[k].body;
+            let rest = 1.0 - p.lambda;
+            end.pos[b] = p.r + rest * p.dr;
+            end.vel[b] = p.v + rest * p.dv;
+            if spins {
+                end.angle[b] = p.angle + rest * p.dangle;
+                end.omega[b] = p.omega + rest * p.domega;
+            }
+        }
+        let mut changed = !s.changed_list.is_empty();
+
+        // 4. and 5. Pairs that touch at the step's end: none may overlap deeper than
+        // its tolerance, and those that approach take their impulses now.
+        s.pairs.extend_from_slice(&s.found);
+        s.pairs.sort_unstable();
+        s.pairs.dedup();
+        s.touching.clear();
+        let mut deepest: Option<Overlap> = None;
+        for &(i, j) in &s.pairs {
+            let (iu, ju) = (i as usize, j as usize);
+            let (bi, bj) = (colliders[iu].body, colliders[ju].body);
+            let pi = Pose::new(end.pos[bi], end.angle[bi]);
+            let pj = Pose::new(end.pos[bj], end.angle[bj]);
+            let t = tol(iu, ju);
+            let Some(ct) = contact(&colliders[iu], &pi, &colliders[ju], &pj, t, t) else {
+                continue;
+            };
+            if ct.gap < -t && deepest.is_none_or(|d| -ct.gap > d.depth) {
+                deepest = Some(Overlap {
+                    a: bi,
+                    b: bj,
+                    depth: -ct.gap,
+                });
+            }
+            s.touching.push((i, j, ct));
+        }
+        if let Some(d) = deepest {
+            return Err(d);
+        }
+        for _ in 0..MAX_END_SWEEPS {
+            let mut any = false;
+            for &(i, j, ct) in &s.touching {
+                let (iu, ju) = (i as usize, j as usize);
+                let (bi, bj) = (colliders[iu].body, colliders[ju].body);
+                let mut a = Side {
+                    inv: s.inv[iu],
+                    centre: end.pos[bi],
+                    v: end.vel[bi],
+                    omega: if spins { end.omega[bi] } else { 0.0 },
+                };
+                let mut b = Side {
+                    inv: s.inv[ju],
+                    centre: end.pos[bj],
+                    v: end.vel[bj],
+                    omega: if spins { end.omega[bj] } else { 0.0 },
+                };
+                if normal_velocity(&a, &b, ct.point, ct.normal) >= 0.0 {
+                    continue;
+                }
+                let e = if impulses < cap {
+                    colliders[iu].restitution.max(colliders[ju].restitution)
+                } else {
+                    0.0
+                };
+                impulses += 1;
+                let imp = collide(&mut a, &mut b, ct.point, ct.normal, e);
+                if *logging {
+                    log.push(ContactEvent {
+                        t: t1,
+                        a: bi,
+                        b: bj,
+                        point: ct.point,
+                        normal: ct.normal,
+                        vn_before: imp.vn_before,
+                        vn_after: imp.vn_after,
+                        impulse: imp.j,
+                    });
+                }
+                for (body, side, k) in [(bi, &a, iu), (bj, &b, ju)] {
+                    if !fixed(&s.inv, k) {
+                        end.vel[body] = side.v;
+                        if spins {
+                            end.omega[body] = side.omega;
+                        }
+                    }
+                }
+                any = true;
+                changed = true;
+            }
+            if !any {
+                break;
+            }
+        }
+        Ok(changed)
+    }
+}
+
+/// Returns the path restarted at λ with its velocity and spin changed by Δv and Δω,
+/// which also change the rest of its motion: Δr per unit λ gains h·Δv (and `shift`),
+/// Δθ gains h·Δω, and the velocity at the end gains Δv.
+fn restart(p: &Path, lambda: f64, dv: DVec2, dw: f64, h: f64, shift: DVec2) -> Path {
+    let s = lambda - p.lambda;
+    Path {
+        lambda,
+        r: p.r + s * p.dr,
+        angle: p.angle + s * p.dangle,
+        dr: p.dr + h * dv + shift,
+        dangle: p.dangle + h * dw,
+        v: p.v + s * p.dv + dv,
+        omega: p.omega + s * p.domega + dw,
+        dv: p.dv,
+        domega: p.domega,
+    }
+}
+
+/// Finds the later impacts of collider k, struck at λ: its new swept box is tested
+/// against the boxes the step began with (for colliders not struck yet) and against
+/// the current boxes of those struck already.
+fn requery(
+    k: usize,
+    lambda: f64,
+    colliders: &[super::Collider],
+    s: &mut Scratch,
+    margin: &impl Fn(usize) -> f64,
+    tol: &impl Fn(usize, usize) -> f64,
+    both_fixed: &impl Fn(&[Inverse], usize, usize) -> bool,
+) {
+    let bx = swept_box(&colliders[k], &s.paths[k], margin(k));
+    s.boxes[k] = bx;
+    if !s.changed[k] {
+        s.changed[k] = true;
+        s.changed_list.push(k as u32);
+    }
+    s.broad.query(&bx, &mut s.query);
+    let mut others = std::mem::take(&mut s.query);
+    others.retain(|&m| m as usize != k && !s.changed[m as usize]);
+    for &m in &s.changed_list {
+        if m as usize != k && overlap(&bx, &s.boxes[m as usize]) {
+            others.push(m);
+        }
+    }
+    for &m in &others {
+        let m = m as usize;
+        if both_fixed(&s.inv, k, m) {
+            continue;
+        }
+        let (i, j) = (k.min(m), k.max(m));
+        s.found.push((i as u32, j as u32));
+        if let Some(at) = time_of_impact(
+            &colliders[i],
+            &s.paths[i],
+            &colliders[j],
+            &s.paths[j],
+            lambda,
+            tol(i, j),
+        ) {
+            s.heap.push(Reverse(Event {
+                lambda: at.to_bits(),
+                i: i as u32,
+                j: j as u32,
+                vi: s.version[i],
+                vj: s.version[j],
+            }));
+        }
+    }
+    s.query = others;
+}
+
+/// See [`Contacts::overlaps`].
+pub(super) fn overlaps(
+    c: &mut Contacts,
+    pos: &[DVec2],
+    angle: &[f64],
+    movable: impl Fn(usize) -> bool,
+) -> Vec<Overlap> {
+    let n = c.colliders.len();
+    let mut boxes = Vec::with_capacity(n);
+    for (k, col) in c.colliders.iter().enumerate() {
+        let b = col.body;
+        let (lo, hi) = col.aabb(pos[b], angle[b].sin_cos());
+        let m = DVec2::splat(c.margin(k));
+        boxes.push(Aabb::new(
+            super::collider::to_parry(lo - m),
+            super::collider::to_parry(hi + m),
+        ));
+    }
+    let mut pairs = Vec::new();
+    c.scratch.broad.build(boxes.into_iter(), &mut pairs);
+    let mut found = Vec::new();
+    for (i, j) in pairs {
+        let (i, j) = (i as usize, j as usize);
+        let (ci, cj) = (&c.colliders[i], &c.colliders[j]);
+        if !movable(ci.body) && !movable(cj.body) {
+            continue;
+        }
+        let t = c.tolerance(i, j);
+        let pi = Pose::new(pos[ci.body], angle[ci.body]);
+        let pj = Pose::new(pos[cj.body], angle[cj.body]);
+        if let Some(ct) = contact(ci, &pi, cj, &pj, t, t) {
+            if ct.gap < -t {
+                found.push(Overlap {
+                    a: ci.body,
+                    b: cj.body,
+                    depth: -ct.gap,
+                });
+            }
+        }
+    }
+    found
+}
