@@ -156,14 +156,9 @@ impl Checkpoint {
         let mut state = State::new(self.t, self.pos.clone(), self.vel.clone());
         state.angle.clone_from(&self.angle);
         state.omega.clone_from(&self.omega);
-        Simulation::restore(
-            scene.system(),
-            state,
-            integrator,
-            scene.simulation.dt,
-            scene.initial_state().t,
-            self.steps,
-        )
+        scene
+            .simulation_from(state, integrator)
+            .continuing(scene.initial_state().t, self.steps)
     }
 
     /// Serialises the checkpoint.
@@ -310,16 +305,7 @@ pub fn save_run(scene: &Scene, dir: &Path, every: u64, end: u64) -> Result<SaveR
             c.trail.iter().cloned().collect(),
             c.frame,
         ),
-        None => (
-            Simulation::new(
-                scene.system(),
-                scene.initial_state(),
-                integrator,
-                scene.simulation.dt,
-            ),
-            HistoryWriter::new(),
-            0,
-        ),
+        None => (scene.simulation_with(integrator), HistoryWriter::new(), 0),
     };
     for k in first..end {
         sim.advance_to(scene.frame_time(k)).map_err(|b| {

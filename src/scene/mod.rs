@@ -28,7 +28,8 @@ pub use frontend::{hash_with_overrides, parse};
 pub use layers::Layers;
 pub use validate::{MAX_BODIES, MAX_FRAMES, MAX_IMAGE_SIDE};
 
-use crate::sim::{ForceSpec, IntegratorKind, Simulation, State, System, Tolerances};
+use crate::sim::contacts::Collider;
+use crate::sim::{Contacts, ForceSpec, IntegratorKind, Simulation, State, System, Tolerances};
 
 /// A validated scene, ready to simulate and render.
 #[derive(Clone, Debug, PartialEq)]
@@ -47,6 +48,21 @@ pub struct Scene {
     pub forces: Vec<ForceSpec>,
     /// Axes, fields and curves drawn with the bodies (see [`layers`]).
     pub layers: Layers,
+    /// Collisions, when the scene has a `[contacts]` table.
+    pub contacts: Option<ContactSettings>,
+}
+
+/// The `[contacts]` table, checked.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ContactSettings {
+    /// The scene's coefficient of restitution e, 0 ≤ e ≤ 1 (default 1); a body's
+    /// `restitution` overrides it, and a pair uses the larger of its two values.
+    pub restitution: f64,
+    /// An absolute contact tolerance for every pair, or `None` for
+    /// [`crate::sim::contacts::DEFAULT_TOLERANCE`] times the smaller body's size.
+    pub tolerance: Option<f64>,
+    /// The bodies that collide, in body order: circles, boxes and convex polygons.
+    pub bodies: Vec<usize>,
 }
 
 /// Where a scene came from.
@@ -185,6 +201,11 @@ pub struct Body {
     pub color: Rgba,
     pub show_velocity: bool,
     pub show_force: bool,
+    /// True for an immovable body (`static = true`): infinite mass and moment of
+    /// inertia, which forces do not move; `mass` and `inertia` are then 0.
+    pub is_static: bool,
+    /// The body's own coefficient of restitution, which overrides the scene's.
+    pub restitution: Option<f64>,
 }
 
 /// A body's outline, in world units relative to its centre of mass.
@@ -263,13 +284,23 @@ impl Scene {
 
     /// Returns a simulation of this scene from t = 0 with another integrator.
     pub fn simulation_with(&self, integrator: IntegratorKind) -> Simulation {
-        Simulation::new(
-            self.system(),
-            self.initial_state(),
-            integrator,
-            self.simulation.dt,
-        )
-        .with_tolerances(self.simulation.tolerances)
+        self.simulation_from(self.initial_state(), integrator)
+    }
+
+    /// Returns a simulation of this scene from a given state (a checkpoint's, say),
+    /// with its step, tolerances and collisions.
+    pub fn simulation_from(&self, state: State, integrator: IntegratorKind) -> Simulation {
+        let sim = Simulation::new(self.system(), state, integrator, self.simulation.dt)
+            .with_tolerances(self.simulation.tolerances);
+        match self.contacts() {
+            Some(c) => sim.with_contacts(c),
+            None => sim,
+        }
+    }
+
+    /// Returns the colliding bodies of a scene with `[contacts]`.
+    pub fn contacts(&self) -> Option<Contacts> {
+        Some(contacts_of(&self.bodies, self.contacts.as_ref()?))
     }
 
     /// Returns the state at t = 0.
@@ -290,6 +321,27 @@ impl Scene {
     }
 }
 
+/// Returns the colliders of the bodies `[contacts]` selects, each with its
+/// restitution (its own, or the scene's).
+pub(crate) fn contacts_of(bodies: &[Body], settings: &ContactSettings) -> Contacts {
+    let colliders = settings
+        .bodies
+        .iter()
+        .filter_map(|&i| {
+            let b = &bodies[i];
+            let e = b.restitution.unwrap_or(settings.restitution);
+            match &b.shape {
+                Shape::Circle { radius } => Some(Collider::disc(i, *radius, e)),
+                Shape::Box { width, height } => Some(Collider::rectangle(i, *width, *height, e)),
+                // Validation refuses a colliding polygon that is not convex.
+                Shape::Polygon { points } => Collider::polygon(i, points.clone(), e).ok(),
+                Shape::Points { .. } => None,
+            }
+        })
+        .collect();
+    Contacts::new(colliders, settings.tolerance)
+}
+
 /// Sets [`Body::turns`] on every body that something may turn during the run: one
 /// that spins at the start, or one on which a torque, a force off its centre of mass
 /// or a spring anchored off it acts.
@@ -299,7 +351,8 @@ pub(crate) fn mark_turning(bodies: &mut [Body], forces: &[ForceSpec]) {
     crate::sim::forces::ForceSet::new(forces, bodies.len(), Some(&centre))
         .mark_torque_targets(&centre, &mut turned);
     for (body, torqued) in bodies.iter_mut().zip(turned) {
-        body.turns = torqued || body.angular_velocity != 0.0;
+        // Nothing turns a static body (1/I = 0).
+        body.turns = !body.is_static && (torqued || body.angular_velocity != 0.0);
     }
 }
 

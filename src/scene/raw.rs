@@ -67,6 +67,16 @@ pub struct RawScene {
     pub curve: Vec<Spanned<super::layers::RawCurve>>,
     #[serde(default)]
     pub swarm: Vec<Spanned<RawSwarm>>,
+    pub contacts: Option<Spanned<RawContacts>>,
+}
+
+/// The `[contacts]` table: collisions on, and how they behave.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawContacts {
+    pub restitution: Option<Spanned<f64>>,
+    pub tolerance: Option<Spanned<f64>>,
+    pub bodies: Option<Spanned<Vec<Spanned<String>>>>,
 }
 
 /// The `[simulation]` table.
@@ -122,6 +132,9 @@ pub struct RawBody {
     pub angle: Option<Spanned<f64>>,
     pub angular_velocity: Option<Spanned<f64>>,
     pub inertia: Option<Spanned<f64>>,
+    #[serde(rename = "static")]
+    pub fixed: Option<Spanned<bool>>,
+    pub restitution: Option<Spanned<f64>>,
 }
 
 /// One `[[swarm]]`: many bodies alike but for their seeded random initial state.
@@ -138,6 +151,8 @@ pub struct RawSwarm {
     pub color: Option<Spanned<String>>,
     pub angle: Option<Spanned<RawScalarRange>>,
     pub angular_velocity: Option<Spanned<RawScalarRange>>,
+    pub restitution: Option<Spanned<f64>>,
+    pub layout: Option<Spanned<String>>,
 }
 
 /// An interval of numbers, from which a swarm draws values uniformly.

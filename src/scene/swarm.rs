@@ -94,6 +94,27 @@ pub fn member_state(seed: u64, i: u64, position: Uniform2, velocity: Uniform2) -
     (position.at(draw(1), draw(2)), velocity.at(draw(3), draw(4)))
 }
 
+/// Returns the centre of cell i of a grid of `count` cells filling `area` row by row
+/// from its lower-left corner: `cols` = ⌈√(count·w/h)⌉ columns of width w/cols and
+/// ⌈count/cols⌉ rows, so that the cells are as near square as the count allows. A
+/// swarm with `layout = "grid"` puts member i there, so that members never overlap
+/// when each fits its cell.
+pub fn grid_position(i: u64, count: u64, area: Uniform2) -> DVec2 {
+    let (cols, rows) = grid_shape(count, area);
+    let size = area.max - area.min;
+    let cell = DVec2::new(size.x / cols as f64, size.y / rows as f64);
+    let (col, row) = (i % cols, i / cols);
+    area.min + DVec2::new((col as f64 + 0.5) * cell.x, (row as f64 + 0.5) * cell.y)
+}
+
+/// Returns the columns and rows of the grid of [`grid_position`].
+pub fn grid_shape(count: u64, area: Uniform2) -> (u64, u64) {
+    let size = area.max - area.min;
+    let aspect = if size.y > 0.0 { size.x / size.y } else { 1.0 };
+    let cols = ((count as f64 * aspect).sqrt().ceil() as u64).clamp(1, count.max(1));
+    (cols, count.div_ceil(cols).max(1))
+}
+
 /// Splits a name into a prefix and the number its trailing digits write, when those
 /// digits are how a swarm names a member: no leading zero unless the number is 0.
 /// `dust17` gives ("dust", 17); `dust017`, `dust` and `17x` give `None`.

@@ -69,6 +69,11 @@ impl Validator {
             Some(c) => self.color(c),
             None => Some(Rgba::palette(i)),
         };
+        let fixed = b.fixed.as_ref().is_some_and(|f| *f.get_ref());
+        let restitution = b.restitution.as_ref().map(|e| self.restitution(e));
+        if fixed {
+            return self.static_body(raw, name, default_radius, color?, restitution);
+        }
         // The mass and the shape come together: either `mass` with an optional `shape`,
         // or `points`, from which both follow (Equations 7-11).
         let mass_and_shape = match (&b.mass, &b.points) {
@@ -149,6 +154,86 @@ impl Validator {
             color: color?,
             show_velocity: b.show_velocity.as_ref().is_some_and(|s| *s.get_ref()),
             show_force: b.show_force.as_ref().is_some_and(|s| *s.get_ref()),
+            is_static: false,
+            restitution: match restitution {
+                Some(e) => Some(e?),
+                None => None,
+            },
+        })
+    }
+
+    /// A body with `static = true`: immovable, so it has no mass, velocity, spin or
+    /// moment of inertia to give (each is an error), only a shape, a place and an angle.
+    fn static_body(
+        &mut self,
+        raw: &Spanned<RawBody>,
+        name: String,
+        default_radius: f64,
+        color: Rgba,
+        restitution: Option<Option<f64>>,
+    ) -> Option<Body> {
+        let b = raw.get_ref();
+        let mut ok = true;
+        let given = [
+            ("mass", b.mass.as_ref().map(|m| m.span())),
+            ("velocity", b.velocity.as_ref().map(|v| v.span())),
+            (
+                "angular_velocity",
+                b.angular_velocity.as_ref().map(|w| w.span()),
+            ),
+            ("inertia", b.inertia.as_ref().map(|m| m.span())),
+            ("points", b.points.as_ref().map(|p| p.span())),
+        ];
+        for (key, span) in given {
+            if let Some(span) = span {
+                self.error(
+                    Diagnostic::at(span, format!("static body `{name}` cannot have `{key}`"))
+                        .label("a static body never moves: its mass and moment of inertia are infinite")
+                        .hint(format!("remove `{key}`, or `static = true` to make the body move")),
+                );
+                ok = false;
+            }
+        }
+        let position = match &b.position {
+            Some(p) => self.vec2(p, "position"),
+            None => Some(DVec2::ZERO),
+        };
+        let angle = b
+            .angle
+            .as_ref()
+            .map_or(Some(0.0), |a| self.finite(a, "angle"));
+        let shape = match &b.shape {
+            Some(s) => self.shape(s),
+            None => Some((
+                Shape::Circle {
+                    radius: default_radius,
+                },
+                DVec2::ZERO,
+            )),
+        };
+        let (shape, centroid) = shape?;
+        let (angle, position) = (angle?, position?);
+        let restitution = match restitution {
+            Some(e) => Some(e?),
+            None => None,
+        };
+        ok.then(|| Body {
+            name,
+            // 1/M = 0 and 1/I = 0: the system reads a mass of 0 as immovable.
+            mass: 0.0,
+            inertia: 0.0,
+            position: position + turned(angle, centroid),
+            velocity: DVec2::ZERO,
+            angle,
+            angular_velocity: 0.0,
+            centre: centroid,
+            turns: false,
+            shape,
+            color,
+            show_velocity: b.show_velocity.as_ref().is_some_and(|s| *s.get_ref()),
+            show_force: b.show_force.as_ref().is_some_and(|s| *s.get_ref()),
+            is_static: true,
+            restitution,
         })
     }
 

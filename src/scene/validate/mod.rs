@@ -7,6 +7,7 @@
 //! forces select) and `values.rs` (single numbers, vectors, colours).
 
 mod bodies;
+mod contacts;
 mod forces;
 mod names;
 mod swarms;
@@ -107,12 +108,40 @@ impl Validator {
             }
             _ => None,
         };
-        if let (Some(sim), Some(bodies), Some(forces)) = (&simulation, &bodies, &forces) {
-            self.exact_exists(raw.simulation.as_ref(), sim, bodies, forces);
+        if let Some(bodies) = &bodies {
+            self.forces_spare_static_bodies(&raw.force, &names, bodies);
         }
+        let contact_keys = raw.contacts.as_ref().map(|c| (c, self.contact_keys(c)));
+        if let (Some(sim), Some(bodies), Some(forces)) = (&simulation, &bodies, &forces) {
+            if !self.no_exact_with_contacts(
+                raw.simulation.as_ref(),
+                sim,
+                contact_keys.is_some(),
+                bodies,
+            ) {
+                self.exact_exists(raw.simulation.as_ref(), sim, bodies, forces);
+            }
+        }
+        let contacts = match (contact_keys, &bodies) {
+            (None, _) => Some(None),
+            (Some((table, Some(keys))), Some(bodies)) => {
+                self.contacts(&raw, table, keys, &names, bodies).map(Some)
+            }
+            _ => None,
+        };
         let hash = hex(&Sha256::digest(text.as_bytes()));
-        let (mut bodies, forces) = (bodies?, forces?);
+        let (mut bodies, forces, contacts) = (bodies?, forces?, contacts?);
         super::mark_turning(&mut bodies, &forces);
+        if let Some(c) = &contacts {
+            // An impulse off its centre of mass turns a colliding body that can move;
+            // a disc's normal always passes through its centre.
+            for &i in &c.bodies {
+                let b = &mut bodies[i];
+                if !b.is_static && !matches!(b.shape, super::Shape::Circle { .. }) {
+                    b.turns = true;
+                }
+            }
+        }
         self.turning_bodies_have_inertia(&raw.body, &bodies)?;
         Some(Scene {
             name: name?,
@@ -126,6 +155,7 @@ impl Validator {
             bodies,
             forces,
             layers: layers?,
+            contacts,
         })
     }
 

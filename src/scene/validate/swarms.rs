@@ -8,7 +8,9 @@ use super::bodies::turned;
 use super::names::SwarmName;
 use super::{Validator, MAX_BODIES};
 use crate::scene::raw::{RawBody, RawRange, RawScalarRange, RawSwarm};
-use crate::scene::swarm::{member_spin, member_state, split_member_name, Uniform1, Uniform2};
+use crate::scene::swarm::{
+    grid_position, member_spin, member_state, split_member_name, Uniform1, Uniform2,
+};
 use crate::scene::MAX_SHAPE_PIXELS;
 use crate::scene::{Body, Diagnostic, RenderSettings, Rgba, Shape, View};
 
@@ -109,10 +111,36 @@ impl Validator {
                 first += count;
                 continue;
             };
+            let grid = match s.layout.as_ref() {
+                None => false,
+                Some(l) if l.get_ref() == "random" => false,
+                Some(l) if l.get_ref() == "grid" => true,
+                Some(l) => {
+                    self.error(
+                        Diagnostic::at(l.span(), format!("unknown layout `{}`", l.get_ref()))
+                            .hint("`layout` is \"random\" (the default: uniform in `position`) or \"grid\" (one member per cell of a grid filling `position`)"),
+                    );
+                    ok = false;
+                    first += count;
+                    continue;
+                }
+            };
+            let restitution = match s.restitution.as_ref().map(|e| self.restitution(e)) {
+                None => None,
+                Some(Some(e)) => Some(e),
+                Some(None) => {
+                    ok = false;
+                    first += count;
+                    continue;
+                }
+            };
             members.reserve(count as usize);
             let inertia = shape.inertia(mass);
             for i in 0..count {
-                let (r, v) = member_state(seed, i, position, velocity);
+                let (mut r, v) = member_state(seed, i, position, velocity);
+                if grid {
+                    r = grid_position(i, count, position);
+                }
                 // A swarm that gives no angle or angular velocity draws none: its
                 // members are the bodies it always gave.
                 let (theta, omega) = match (angle, spin) {
@@ -140,6 +168,8 @@ impl Validator {
                     color,
                     show_velocity: false,
                     show_force: false,
+                    is_static: false,
+                    restitution,
                 });
             }
             first += count;

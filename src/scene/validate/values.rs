@@ -49,6 +49,20 @@ impl Validator {
         None
     }
 
+    /// Checks a coefficient of restitution: 0 ≤ e ≤ 1.
+    pub(super) fn restitution(&mut self, raw: &Spanned<f64>) -> Option<f64> {
+        let v = self.finite(raw, "restitution")?;
+        if (0.0..=1.0).contains(&v) {
+            return Some(v);
+        }
+        self.error(
+            Diagnostic::at(raw.span(), "`restitution` must be between 0 and 1")
+                .label(format!("{v} is outside 0 ≤ e ≤ 1"))
+                .hint("e = 1 is elastic (bounces back at full speed), e = 0 plastic (no bounce)"),
+        );
+        None
+    }
+
     pub(super) fn positive(&mut self, raw: &Spanned<f64>, key: &str) -> Option<f64> {
         let v = self.finite(raw, key)?;
         if v > 0.0 {

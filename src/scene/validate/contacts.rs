@@ -1,0 +1,265 @@
+//! `[contacts]`: which bodies collide and how, and the checks that need the bodies:
+//! shapes that can collide, no overlap at the start, no force on a static body, and no
+//! closed form to compare with.
+
+use std::ops::Range;
+
+use toml::Spanned;
+
+use super::names::{Names, Target};
+use super::Validator;
+use crate::scene::raw::{RawContacts, RawForce, RawScene, RawSimulation};
+use crate::scene::{Body, CompareRun, ContactSettings, Diagnostic, Shape, SimulationSettings};
+use crate::sim::contacts::{convexity_problem, Contacts};
+
+/// What `[contacts]` says before the bodies are known.
+pub(super) struct ContactKeys {
+    restitution: f64,
+    tolerance: Option<f64>,
+}
+
+impl Validator {
+    /// Checks the values of `[contacts]`.
+    pub(super) fn contact_keys(&mut self, raw: &Spanned<RawContacts>) -> Option<ContactKeys> {
+        let c = raw.get_ref();
+        let restitution = c
+            .restitution
+            .as_ref()
+            .map_or(Some(1.0), |e| self.restitution(e));
+        let tolerance = match &c.tolerance {
+            Some(t) => Some(Some(self.positive(t, "tolerance")?)),
+            None => Some(None),
+        };
+        Some(ContactKeys {
+            restitution: restitution?,
+            tolerance: tolerance?,
+        })
+    }
+
+    /// Resolves which bodies collide and checks that each can: a circle, a box or a
+    /// convex polygon, and none overlapping another at t = 0.
+    pub(super) fn contacts(
+        &mut self,
+        raw: &RawScene,
+        table: &Spanned<RawContacts>,
+        keys: ContactKeys,
+        names: &Names,
+        bodies: &[Body],
+    ) -> Option<ContactSettings> {
+        let spans = BodySpans::new(raw, names);
+        let mut ok = true;
+        let chosen: Vec<usize> = match &table.get_ref().bodies {
+            None => (0..bodies.len())
+                .filter(|&i| !matches!(bodies[i].shape, Shape::Points { .. }))
+                .collect(),
+            Some(list) => {
+                if list.get_ref().is_empty() {
+                    self.error(
+                        Diagnostic::at(list.span(), "`bodies` is empty, so nothing collides")
+                            .hint("leave `bodies` out to make every body with a shape collide"),
+                    );
+                    return None;
+                }
+                let mut chosen = Vec::new();
+                for name in list.get_ref() {
+                    let range = match names.resolve(name.get_ref()) {
+                        Some(Target::Body(i)) => i as usize..i as usize + 1,
+                        Some(Target::Swarm(r)) => r.start as usize..r.end as usize,
+                        None => {
+                            self.unknown_body(name, names);
+                            ok = false;
+                            continue;
+                        }
+                    };
+                    for i in range {
+                        if let Shape::Points { .. } = bodies[i].shape {
+                            self.error(
+                                Diagnostic::at(
+                                    name.span(),
+                                    format!(
+                                        "body `{}` is made of point masses, which do not collide",
+                                        bodies[i].name
+                                    ),
+                                )
+                                .label("only circles, boxes and convex polygons collide")
+                                .hint("give the body a `shape`, or leave it out of `bodies`"),
+                            );
+                            ok = false;
+                            break;
+                        }
+                        chosen.push(i);
+                    }
+                }
+                chosen.sort_unstable();
+                chosen.dedup();
+                chosen
+            }
+        };
+        for &i in &chosen {
+            if let Shape::Polygon { points } = &bodies[i].shape {
+                if let Some(problem) = convexity_problem(points) {
+                    self.error(
+                        Diagnostic::at(
+                            spans.shape(i),
+                            format!(
+                                "body `{}` collides but its polygon is {problem}",
+                                bodies[i].name
+                            ),
+                        )
+                        .hint(
+                            "split it into convex bodies, or leave it out of [contacts] `bodies`",
+                        ),
+                    );
+                    ok = false;
+                }
+            }
+        }
+        if !ok {
+            return None;
+        }
+        let settings = ContactSettings {
+            restitution: keys.restitution,
+            tolerance: keys.tolerance,
+            bodies: chosen,
+        };
+        let mut contacts = crate::scene::contacts_of(bodies, &settings);
+        let pos: Vec<_> = bodies.iter().map(|b| b.position).collect();
+        let angle: Vec<_> = bodies.iter().map(|b| b.angle).collect();
+        let overlaps = overlaps_at_start(&mut contacts, &pos, &angle, bodies);
+        for o in overlaps.iter().take(5) {
+            self.error(
+                Diagnostic::at(
+                    spans.body(o.b),
+                    format!(
+                        "bodies `{}` and `{}` overlap by {:.3e} at t = 0",
+                        bodies[o.a].name, bodies[o.b].name, o.depth
+                    ),
+                )
+                .label("colliding bodies may touch at the start, but not overlap")
+                .hint("move them apart, or leave one out of [contacts] `bodies`"),
+            );
+        }
+        if overlaps.len() > 5 {
+            self.error(Diagnostic::whole_file(format!(
+                "{} more pairs of colliding bodies overlap at t = 0",
+                overlaps.len() - 5
+            )));
+        }
+        overlaps.is_empty().then_some(settings)
+    }
+
+    /// Refuses a force whose `bodies` names a static body, which no force moves.
+    pub(super) fn forces_spare_static_bodies(
+        &mut self,
+        forces: &[Spanned<RawForce>],
+        names: &Names,
+        bodies: &[Body],
+    ) {
+        for f in forces {
+            let Some(list) = &f.get_ref().bodies else {
+                continue;
+            };
+            for name in list.get_ref() {
+                if let Some(Target::Body(i)) = names.resolve(name.get_ref()) {
+                    if bodies.get(i as usize).is_some_and(|b| b.is_static) {
+                        self.error(
+                            Diagnostic::at(
+                                name.span(),
+                                format!(
+                                    "body `{}` is static, so no force acts on it",
+                                    name.get_ref()
+                                ),
+                            )
+                            .hint("remove it from `bodies`, or remove `static = true`"),
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    /// Refuses `compare = ["exact"]` in a scene with collisions or static bodies, which
+    /// has no closed form; returns true when it did.
+    pub(super) fn no_exact_with_contacts(
+        &mut self,
+        raw: Option<&Spanned<RawSimulation>>,
+        sim: &SimulationSettings,
+        has_contacts: bool,
+        bodies: &[Body],
+    ) -> bool {
+        if !sim.compare.contains(&CompareRun::Exact)
+            || !(has_contacts || bodies.iter().any(|b| b.is_static))
+        {
+            return false;
+        }
+        let span = raw
+            .and_then(|r| r.get_ref().compare.as_ref())
+            .and_then(|c| c.get_ref().iter().find(|n| n.get_ref() == "exact"))
+            .map(|n| n.span());
+        let message =
+            "a scene with collisions or static bodies has no closed-form solution to compare with";
+        let d = match span {
+            Some(span) => Diagnostic::at(span, message),
+            None => Diagnostic::whole_file(message),
+        };
+        self.error(d.hint("remove \"exact\", or compare integrators only"));
+        true
+    }
+}
+
+/// Returns the pairs of colliding bodies that overlap at t = 0 deeper than their
+/// tolerance (two static bodies may: a floor built of several boxes).
+fn overlaps_at_start(
+    contacts: &mut Contacts,
+    pos: &[glam::DVec2],
+    angle: &[f64],
+    bodies: &[Body],
+) -> Vec<crate::sim::contacts::Overlap> {
+    contacts.overlaps(pos, angle, |i| !bodies[i].is_static)
+}
+
+/// Where each body is written in the file: its own `[[body]]` table, or its swarm's.
+struct BodySpans<'a> {
+    raw: &'a RawScene,
+    swarms: Vec<(Range<usize>, usize)>,
+}
+
+impl<'a> BodySpans<'a> {
+    fn new(raw: &'a RawScene, names: &Names) -> Self {
+        let swarms = raw
+            .swarm
+            .iter()
+            .enumerate()
+            .filter_map(|(k, s)| match names.resolve(s.get_ref().name.get_ref()) {
+                Some(Target::Swarm(r)) => Some((r.start as usize..r.end as usize, k)),
+                _ => None,
+            })
+            .collect();
+        BodySpans { raw, swarms }
+    }
+
+    /// The span of body i's table (or its swarm's).
+    fn body(&self, i: usize) -> Range<usize> {
+        if let Some(b) = self.raw.body.get(i) {
+            return b.span();
+        }
+        self.swarm(i).map_or(0..0, |s| s.span())
+    }
+
+    /// The span of body i's shape, or of its table when it has none written.
+    fn shape(&self, i: usize) -> Range<usize> {
+        if let Some(b) = self.raw.body.get(i) {
+            return b.get_ref().shape.as_ref().map_or(b.span(), |s| s.span());
+        }
+        self.swarm(i).map_or(0..0, |s| {
+            s.get_ref().shape.as_ref().map_or(s.span(), |sh| sh.span())
+        })
+    }
+
+    fn swarm(&self, i: usize) -> Option<&'a Spanned<crate::scene::raw::RawSwarm>> {
+        self.swarms
+            .iter()
+            .find(|(r, _)| r.contains(&i))
+            .map(|(_, k)| &self.raw.swarm[*k])
+    }
+}
