@@ -57,6 +57,9 @@ pub struct RenderExtras {
     /// Start from the nearest checkpoint at or before the first frame, and write
     /// checkpoints when asked; `None` uses none.
     pub checkpoints: Option<CheckpointOptions>,
+    /// Write the collision log (one row per impulse of the steps this run simulates)
+    /// to this CSV file.
+    pub events: Option<PathBuf>,
 }
 
 /// What a finished render did.
@@ -231,6 +234,11 @@ fn render_full(
     let (sender, receiver) = crossbeam_channel::bounded::<Job>(2 * threads);
     let mut simulate = Duration::ZERO;
     let mut blow_up: Option<(BlowUp, u64)> = None;
+    let names = scene.body_names();
+    let mut events = match &extras.events {
+        Some(path) => Some(output::EventLog::create(path)?),
+        None => None,
+    };
 
     std::thread::scope(|scope| {
         for _ in 0..threads {
@@ -294,15 +302,24 @@ fn render_full(
             history = c.trail.iter().cloned().collect();
             first = c.frame;
         }
+        sim.record_contacts(events.is_some());
         for k in first..range.end {
             if stop.load(Ordering::Relaxed) {
                 break;
             }
             let started = Instant::now();
-            if let Err(e) = sim
+            let advanced = sim
                 .advance_to(scene.frame_time(k))
-                .and_then(|()| energy_watch.check(&sim))
-            {
+                .and_then(|()| energy_watch.check(&sim));
+            if let Some(log) = &mut events {
+                if let Err(e) = log.write(&sim.take_contact_events(), &names) {
+                    stop.store(true, Ordering::Relaxed);
+                    let mut slot = first_error.lock().unwrap_or_else(|p| p.into_inner());
+                    slot.get_or_insert(e);
+                    break;
+                }
+            }
+            if let Err(e) = advanced {
                 simulate += started.elapsed();
                 blow_up = Some((e, k));
                 break;
@@ -359,6 +376,9 @@ fn render_full(
         drop(sender);
     });
     progress.finish_and_clear();
+    if let Some(log) = events {
+        log.finish()?;
+    }
 
     let frames_written = written.load(Ordering::Relaxed);
     let nanos = |c: &AtomicU64| c.load(Ordering::Relaxed) as f64 * 1e-9;

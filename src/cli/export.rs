@@ -8,7 +8,7 @@ use clap::Args;
 use super::SceneArgs;
 use crate::blowup::blow_up_message;
 use crate::error::{Error, Result};
-use crate::output::write_trajectory;
+use crate::output::{write_trajectory, EventLog};
 
 #[derive(Debug, Args)]
 pub struct ExportArgs {
@@ -20,16 +20,29 @@ pub struct ExportArgs {
     /// Write a row per body after every step, not only at frame times.
     #[arg(long)]
     every_step: bool,
+    /// Also write the collision log to this CSV file: one row per impulse,
+    /// `t,a,b,px,py,nx,ny,vn_before,vn_after,impulse`, in the order applied.
+    #[arg(long, value_name = "FILE")]
+    events: Option<PathBuf>,
 }
 
 pub fn run(args: ExportArgs) -> Result<()> {
     let scene = args.scene.load()?;
+    let mut events = match &args.events {
+        Some(path) => Some(EventLog::create(path)?),
+        None => None,
+    };
     let blow_up = match &args.out {
         None => {
             let stdout = std::io::stdout();
             let mut out = BufWriter::new(stdout.lock());
-            match write_trajectory(&scene, args.every_step, &mut out)
-                .and_then(|b| out.flush().map(|()| b))
+            match write_trajectory(
+                &scene,
+                args.every_step,
+                &mut out,
+                events.as_mut().map(|e| e.writer()),
+            )
+            .and_then(|b| out.flush().map(|()| b))
             {
                 Ok(b) => b,
                 // A reader that closed the pipe (as `| head` does) has all it wanted.
@@ -41,8 +54,13 @@ pub fn run(args: ExportArgs) -> Result<()> {
             // Write beside the target, then rename, so the CSV is never half-written.
             let tmp = crate::output::temp_file_beside(path)?;
             let mut out = BufWriter::new(tmp);
-            let b = write_trajectory(&scene, args.every_step, &mut out)
-                .map_err(|e| Error::io("cannot write", path.clone(), e))?;
+            let b = write_trajectory(
+                &scene,
+                args.every_step,
+                &mut out,
+                events.as_mut().map(|e| e.writer()),
+            )
+            .map_err(|e| Error::io("cannot write", path.clone(), e))?;
             let tmp = out
                 .into_inner()
                 .map_err(|e| Error::io("cannot write", path.clone(), e.into_error()))?;
@@ -52,6 +70,9 @@ pub fn run(args: ExportArgs) -> Result<()> {
             b
         }
     };
+    if let Some(events) = events {
+        events.finish()?;
+    }
     match blow_up {
         Some(b) => Err(Error::BlowUp(format!(
             "{}\nthe rows before it were written",

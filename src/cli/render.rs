@@ -46,6 +46,11 @@ pub struct RenderArgs {
     /// Also write the frames as one lossless animated PNG.
     #[arg(long, value_name = "FILE")]
     apng: Option<PathBuf>,
+    /// Also write the collision log to this CSV file: one row per impulse,
+    /// `t,a,b,px,py,nx,ny,vn_before,vn_after,impulse`, in the order applied, for the
+    /// steps this run simulates (from t = 0, or from the checkpoint it starts at).
+    #[arg(long, value_name = "FILE")]
+    events: Option<PathBuf>,
     /// Also encode the frames as an MP4 video with ffmpeg, which must be on PATH.
     #[arg(long, value_name = "FILE")]
     mp4: Option<PathBuf>,
@@ -112,6 +117,7 @@ pub fn run(args: RenderArgs, verbosity: Verbosity) -> Result<()> {
     let extras = RenderExtras {
         resume: args.resume,
         checkpoints: Some(checkpoints),
+        events: args.events.clone(),
     };
     let report = pipeline::render_with(&scene, &options, &extras)?;
     let m = &report.manifest;

@@ -12,17 +12,29 @@ use crate::sim::{BlowUp, Simulation};
 /// body's orientation θ in radians (counter-clockwise, not wrapped to a turn) and
 /// `omega` its angular velocity ω = dθ/dt in rad/s, for every body, turning or not.
 ///
+/// With `events`, every impulse of a scene with collisions is written there too, as the
+/// collision log's rows (see [`super::events`]), in the order applied.
+///
 /// Returns the blow-up, if the state stopped being finite; the rows before it are
 /// written.
 pub fn write_trajectory(
     scene: &Scene,
     every_step: bool,
     out: &mut impl Write,
+    mut events: Option<&mut dyn Write>,
 ) -> std::io::Result<Option<BlowUp>> {
     let names = scene.body_names();
     let mut sim = scene.simulation();
+    sim.record_contacts(events.is_some());
     writeln!(out, "{HEADER}")?;
     write_rows(&sim, &names, out)?;
+    // Writes the impulses of the steps just taken to the collision log.
+    let mut log = |sim: &mut Simulation| -> std::io::Result<()> {
+        match events.as_mut() {
+            Some(w) => super::events::write_events(w, &sim.take_contact_events(), &names),
+            None => Ok(()),
+        }
+    };
     let frames = scene.render.frame_count;
     if every_step {
         // Every step up to the last frame; an adaptive method's steps vary, and its last
@@ -31,6 +43,7 @@ pub fn write_trajectory(
         if sim.integrator().is_adaptive() {
             while sim.state().t < t_end {
                 let step = sim.step_towards(t_end);
+                log(&mut sim)?;
                 if let Err(b) = step {
                     return Ok(Some(b));
                 }
@@ -39,7 +52,9 @@ pub fn write_trajectory(
             return Ok(None);
         }
         for _ in 0..scene.total_steps() {
-            if let Err(b) = sim.step() {
+            let step = sim.step();
+            log(&mut sim)?;
+            if let Err(b) = step {
                 return Ok(Some(b));
             }
             write_rows(&sim, &names, out)?;
@@ -47,10 +62,11 @@ pub fn write_trajectory(
     } else {
         let energy = crate::blowup::EnergyWatch::new(&sim);
         for k in 1..frames {
-            if let Err(b) = sim
+            let step = sim
                 .advance_to(scene.frame_time(k))
-                .and_then(|()| energy.check(&sim))
-            {
+                .and_then(|()| energy.check(&sim));
+            log(&mut sim)?;
+            if let Err(b) = step {
                 return Ok(Some(b));
             }
             write_rows(&sim, &names, out)?;

@@ -6,6 +6,7 @@
 
 pub mod apng;
 mod csv;
+pub mod events;
 mod manifest;
 mod resume;
 pub mod video;
@@ -14,6 +15,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 pub use csv::write_trajectory;
+pub use events::{EventLog, EVENTS_HEADER};
 pub use manifest::{Failure, Manifest, Timings};
 pub use resume::reusable_frames;
 
