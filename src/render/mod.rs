@@ -121,6 +121,9 @@ pub struct Renderer {
     look_of: Vec<u32>,
     /// The bodies that show a velocity or force arrow, in increasing order.
     arrow_bodies: Vec<u32>,
+    /// For each body, whether it is static and so drawn in the static layer rather
+    /// than in every frame; empty when no body is static.
+    still: Vec<bool>,
     arrows: ArrowScales,
     /// Axes, fields, curves, legend and HUD.
     overlay: layers::Overlay,
@@ -237,6 +240,28 @@ impl Renderer {
                 }
             }
         }
+        // Static bodies never move: they are drawn once, into the static layer, over its
+        // fields and curves as every body is, and wiped from the margins of a plot with
+        // axes as every body is at each frame. Frames then skip them.
+        let still: Vec<bool> = shown.iter().map(|b| b.is_static).collect();
+        if still.iter().any(|s| *s) {
+            let before = overlay.body_area().map(|area| (area, static_layer.clone()));
+            for (i, b) in shown.iter().enumerate().filter(|(_, b)| b.is_static) {
+                let look = &looks[look_of[i] as usize].body;
+                let (x, y) = camera.to_pixel(b.position);
+                if !look.is_outside(x, y, r.width, r.height) {
+                    look.draw(&mut static_layer, x, y);
+                }
+            }
+            if let Some((area, before)) = before {
+                layers::restore_outside(&mut static_layer, &before, area);
+            }
+        }
+        let still = if still.iter().any(|s| *s) {
+            still
+        } else {
+            Vec::new()
+        };
         let arrow_bodies = shown
             .iter()
             .enumerate()
@@ -253,6 +278,7 @@ impl Renderer {
             looks,
             look_of,
             arrow_bodies,
+            still,
             arrows,
             overlay,
             springs: springs::Springs::new(scene),
@@ -437,6 +463,9 @@ impl Renderer {
         mut damage: Option<&mut Damage>,
     ) {
         for (i, (p, &look)) in frame.pos.iter().zip(&self.look_of).enumerate() {
+            if self.still.get(i) == Some(&true) {
+                continue;
+            }
             let look = &self.looks[look as usize];
             let (x, y) = self.camera.to_pixel(*p);
             // Bodies entirely outside the image are skipped, and so are positions

@@ -278,7 +278,7 @@ fn camera_of(chart: &Chart, width: u32, height: u32) -> Option<Camera> {
 }
 
 /// Copies every pixel outside `inside` from `source` into `pixmap`.
-fn restore_outside(pixmap: &mut Pixmap, source: &Pixmap, inside: IntRect) {
+pub(crate) fn restore_outside(pixmap: &mut Pixmap, source: &Pixmap, inside: IntRect) {
     let width = pixmap.width() as usize;
     let height = pixmap.height() as usize;
     if (source.width() as usize, source.height() as usize) != (width, height) {
