@@ -75,6 +75,12 @@ pub fn blow_up_message(scene: &Scene, b: &BlowUp) -> String {
             scene.simulation.tolerances.atol
         );
     }
+    if let Some(o) = b.overlap {
+        return format!(
+            "the simulation stopped: bodies `{}` and `{}` overlap by {:e} after step {} (t = {}), deeper than their contact tolerance; integrator {integrator}, dt = {}\nhint: a smaller dt, or a larger [contacts] `tolerance`, lets the contacts keep them apart",
+            scene.bodies[o.a].name, scene.bodies[o.b].name, o.depth, b.step, b.t, scene.simulation.dt
+        );
+    }
     let body = &scene.bodies[b.body];
     // What linear stability theory says of the scene's drags and springs, if anything.
     let masses: Vec<f64> = scene.bodies.iter().map(|b| b.mass).collect();

@@ -56,6 +56,18 @@ pub struct Contact {
     pub normal: DVec2,
     /// The world point where the impulse acts: the middle of the closest points.
     pub point: DVec2,
+    /// The closest points themselves (the middle of each pair of surface points): one,
+    /// or two when an edge lies along an edge or a face (within the tolerance).
+    pub points: [DVec2; 2],
+    /// How many of `points` there are: 1 or 2.
+    pub count: usize,
+}
+
+impl Contact {
+    /// Returns the closest points.
+    pub fn points(&self) -> &[DVec2] {
+        &self.points[..self.count]
+    }
 }
 
 /// Returns the contact of a at `pa` and b at `pb` when their gap is at most
@@ -141,10 +153,13 @@ pub fn separation(a: &Collider, pa: &Pose, b: &Collider, pb: &Pose) -> Option<Co
     let c = query::contact(&pa.to_parry(), ga, &pb.to_parry(), gb, f64::MAX).ok()??;
     // parry's normal1 points from a towards b, in world axes.
     let normal = -from_parry(c.normal1);
+    let point = 0.5 * (from_parry(c.point1) + from_parry(c.point2));
     Some(Contact {
         gap: c.dist,
         normal,
-        point: 0.5 * (from_parry(c.point1) + from_parry(c.point2)),
+        point,
+        points: [point, point],
+        count: 1,
     })
 }
 
@@ -171,7 +186,13 @@ fn discs(ra: DVec2, rad_a: f64, rb: DVec2, rad_b: f64, prediction: f64) -> Optio
     let normal = if dist > 0.0 { d / dist } else { DVec2::Y };
     // The surface points: r_a - ρ_a·n on a and r_b + ρ_b·n on b.
     let point = 0.5 * ((ra - rad_a * normal) + (rb + rad_b * normal));
-    Some(Contact { gap, normal, point })
+    Some(Contact {
+        gap,
+        normal,
+        point,
+        points: [point, point],
+        count: 1,
+    })
 }
 
 /// Turns a parry manifold (points in a's frame, normal from a to b in a's frame) into
@@ -186,19 +207,24 @@ fn from_manifold(m: &ContactManifold<(), ()>, pa: &Pose, pb: &Pose, tol: f64) ->
     if !gap.is_finite() {
         return None;
     }
-    let mut sum = DVec2::ZERO;
-    let mut count = 0.0;
-    for p in m.points.iter().filter(|p| p.dist <= gap + tol) {
+    let mut points = [DVec2::ZERO; 2];
+    let mut count = 0;
+    for p in m.points.iter().filter(|p| p.dist <= gap + tol).take(2) {
         let on_a = pa.apply(from_parry(p.local_p1));
         let on_b = pb.apply(from_parry(p.local_p2));
-        sum += 0.5 * (on_a + on_b);
-        count += 1.0;
+        points[count] = 0.5 * (on_a + on_b);
+        count += 1;
+    }
+    if count == 1 {
+        points[1] = points[0];
     }
     let normal = -rotate(pa.sin_cos, from_parry(m.local_n1));
     Some(Contact {
         gap,
         normal,
-        point: sum / count,
+        point: 0.5 * (points[0] + points[1]),
+        points,
+        count,
     })
 }
 

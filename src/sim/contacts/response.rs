@@ -59,6 +59,84 @@ pub fn normal_velocity(a: &Side, b: &Side, p: DVec2, n: DVec2) -> f64 {
     (vap - vbp).dot(n)
 }
 
+/// How slowly two points may close and still count as at rest relative to each other:
+/// a closing speed below this fraction of the points' own speeds is round-off (a
+/// velocity and the step's chord that agree to the last bits), not an approach.
+pub const APPROACH_EPSILON: f64 = 1e-9;
+
+/// Returns true when a closing rate `rate` (negative: closing) of two points moving at
+/// `scale` (the sum of their speeds) is an approach.
+#[inline]
+pub fn closes(rate: f64, scale: f64) -> bool {
+    rate < -APPROACH_EPSILON * scale
+}
+
+/// Returns the normal relative velocity at P and the speed scale it is measured
+/// against, |v_AP| + |v_BP|.
+#[inline]
+fn normal_velocity_and_scale(a: &Side, b: &Side, p: DVec2, n: DVec2) -> (f64, f64) {
+    let vap = point_velocity(a.v, a.omega, p - a.centre);
+    let vbp = point_velocity(b.v, b.omega, p - b.centre);
+    ((vap - vbp).dot(n), vap.length() + vbp.length())
+}
+
+/// Returns the point where one impulse along n acts as the contact's points would act
+/// together, or `None` when no point approaches.
+///
+/// A contact of two points (an edge on an edge) is struck at both at once: impulses
+/// j_1, j_2 ≥ 0 such that each point whose impulse is not zero leaves at
+/// v_n' = -e·v_n, the others at no less (the 2 × 2 complementarity problem
+/// K·j = -(1 + e)·v_n with K_kl = 1/M_A + 1/M_B + (r_Ak⊥·n)(r_Al⊥·n)/I_A +
+/// (r_Bk⊥·n)(r_Bl⊥·n)/I_B, solved by trying which impulses are zero, as Box2D's
+/// block solver does). Impulses along one normal add: j_1 at P_1 and j_2 at P_2 are
+/// one impulse J = j_1 + j_2 at P* = (j_1·P_1 + j_2·P_2)/J, and since v_n is linear in
+/// the point, v_n'(P*) = -e·v_n(P*): the article's impulse at P* is this one. Struck
+/// one point at a time instead, a box rocking on an edge would be struck at each end in
+/// turn without end.
+pub fn strike_point(a: &Side, b: &Side, points: &[DVec2], n: DVec2, e: f64) -> Option<DVec2> {
+    let vn: Vec<(f64, f64)> = points
+        .iter()
+        .map(|p| normal_velocity_and_scale(a, b, *p, n))
+        .collect();
+    if !vn.iter().any(|(v, scale)| closes(*v, *scale)) {
+        return None;
+    }
+    if points.len() == 1 || (points[0] - points[1]).length_squared() == 0.0 {
+        return Some(points[0]);
+    }
+    let lever = |p: DVec2| (perp_dot(p - a.centre, n), perp_dot(p - b.centre, n));
+    let (l1, l2) = (lever(points[0]), lever(points[1]));
+    let k = |x: (f64, f64), y: (f64, f64)| {
+        a.inv.mass + b.inv.mass + x.0 * y.0 * a.inv.inertia + x.1 * y.1 * b.inv.inertia
+    };
+    let (k11, k12, k22) = (k(l1, l1), k(l1, l2), k(l2, l2));
+    // The change of normal velocity each point needs: -(1 + e)·v_n.
+    let (b1, b2) = (-(1.0 + e) * vn[0].0, -(1.0 + e) * vn[1].0);
+    let weighted = |j1: f64, j2: f64| (j1 * points[0] + j2 * points[1]) / (j1 + j2);
+    // Both struck: j = K⁻¹·b, when both are positive.
+    let det = k11 * k22 - k12 * k12;
+    if det > 1e-12 * k11 * k22 {
+        let j1 = (k22 * b1 - k12 * b2) / det;
+        let j2 = (k11 * b2 - k12 * b1) / det;
+        if j1 > 0.0 && j2 > 0.0 {
+            return Some(weighted(j1, j2));
+        }
+    }
+    // One struck, and the other leaves no slower than e times its approach: v_n2 +
+    // K_21·j_1 ≥ -e·v_n2, that is K_21·j_1 ≥ b2.
+    let j1 = b1 / k11;
+    if j1 > 0.0 && k12 * j1 >= b2 {
+        return Some(points[0]);
+    }
+    let j2 = b2 / k22;
+    if j2 > 0.0 && k12 * j2 >= b1 {
+        return Some(points[1]);
+    }
+    // The points are so close that K is singular and each alone undoes the other:
+    // strike their middle.
+    Some(0.5 * (points[0] + points[1]))
+}
+
 /// Applies the impulse of restitution e at P along n (from B to A) to both sides'
 /// velocities and spins, and returns it with v_n before and after.
 ///

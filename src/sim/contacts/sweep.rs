@@ -10,7 +10,7 @@ use parry2d_f64::bounding_volume::Aabb;
 
 use super::broad_phase::{overlap, swept_box, BroadPhase};
 use super::narrow_phase::{contact, Contact, Pose};
-use super::response::{collide, normal_velocity, Inverse, Side};
+use super::response::{closes, collide, strike_point, Inverse, Side};
 use super::toi::{time_of_impact, Path};
 use super::{inverse, ContactEvent, Contacts, Overlap};
 use crate::sim::{State, System};
@@ -20,11 +20,14 @@ use crate::sim::{State, System};
 /// what is left approaches so slowly that the next step takes it up).
 const MAX_END_SWEEPS: usize = 100;
 
-/// Impulses in one step past which every further one is plastic (e = 0), so that a
-/// body wedged exactly between two others with e = 1, which would bounce between them
-/// forever at one instant, lets the step end. It is far above what a scene meets: one
-/// impulse per body per step is already a violent scene.
-const IMPULSES_PER_BODY: usize = 100;
+/// Impacts in one step, per colliding body, past which the step stops searching for
+/// more and leaves what is left to the resting contacts at its end and the overlap
+/// check. Two bodies that stay in contact while they turn against each other (a box
+/// rocking on another with e < 1) need a contact force for as long as they touch, which
+/// impulses can only approach by ever more, ever smaller bounces: that is resting
+/// contact, which a contact solver answers, not impacts. A violent scene meets about
+/// one impact per body per step.
+const IMPACTS_PER_BODY: usize = 8;
 
 /// The buffers of a step's contact stages, kept between steps so that a step
 /// allocates nothing once they have grown.
@@ -159,8 +162,8 @@ impl Contacts {
         }
 
         // 3. Impacts in time order.
-        let cap = IMPULSES_PER_BODY * n + 10_000;
-        let mut impulses = 0usize;
+        let cap = IMPACTS_PER_BODY * n + 1_000;
+        let mut impacts = 0usize;
         while let Some(Reverse(ev)) = s.heap.pop() {
             let (i, j) = (ev.i as usize, ev.j as usize);
             if ev.vi != s.version[i] || ev.vj != s.version[j] {
@@ -186,20 +189,19 @@ impl Contacts {
                 v: vj,
                 omega: wj,
             };
-            if normal_velocity(&a, &b, ct.point, ct.normal) < 0.0 {
-                let e = if impulses < cap {
-                    colliders[i].restitution.max(colliders[j].restitution)
-                } else {
-                    0.0
-                };
-                impulses += 1;
-                let imp = collide(&mut a, &mut b, ct.point, ct.normal, e);
+            impacts += 1;
+            if impacts > cap {
+                break;
+            }
+            let e = colliders[i].restitution.max(colliders[j].restitution);
+            if let Some(point) = strike_point(&a, &b, ct.points(), ct.normal, e) {
+                let imp = collide(&mut a, &mut b, point, ct.normal, e);
                 if *logging {
                     log.push(ContactEvent {
                         t: t0 + lambda * h,
                         a: colliders[i].body,
                         b: colliders[j].body,
-                        point: ct.point,
+                        point,
                         normal: ct.normal,
                         vn_before: imp.vn_before,
                         vn_after: imp.vn_after,
@@ -214,11 +216,18 @@ impl Contacts {
                 // of both paths is moved apart along n, shared by inverse mass, so that
                 // neither passes into the other. No velocity changes, so no energy or
                 // momentum does, and nothing is logged.
-                let ua = s.paths[i].point_rate(pi.r, ct.point);
-                let ub = s.paths[j].point_rate(pj.r, ct.point);
-                let closing = (ua - ub).dot(ct.normal);
+                // The fastest closing of the contact's points along the paths.
+                let (closing, scale) = ct
+                    .points()
+                    .iter()
+                    .map(|p| {
+                        let ua = s.paths[i].point_rate(pi.r, *p);
+                        let ub = s.paths[j].point_rate(pj.r, *p);
+                        ((ua - ub).dot(ct.normal), ua.length() + ub.length())
+                    })
+                    .fold((f64::INFINITY, 0.0), |m, x| if x.0 < m.0 { x } else { m });
                 let total = s.inv[i].mass + s.inv[j].mass;
-                if closing >= 0.0 || total == 0.0 {
+                if !closes(closing, scale) || total == 0.0 {
                     continue;
                 }
                 let shift = -closing / total * ct.normal;
@@ -316,22 +325,17 @@ impl Contacts {
                     v: end.vel[bj],
                     omega: if spins { end.omega[bj] } else { 0.0 },
                 };
-                if normal_velocity(&a, &b, ct.point, ct.normal) >= 0.0 {
+                let e = colliders[iu].restitution.max(colliders[ju].restitution);
+                let Some(point) = strike_point(&a, &b, ct.points(), ct.normal, e) else {
                     continue;
-                }
-                let e = if impulses < cap {
-                    colliders[iu].restitution.max(colliders[ju].restitution)
-                } else {
-                    0.0
                 };
-                impulses += 1;
-                let imp = collide(&mut a, &mut b, ct.point, ct.normal, e);
+                let imp = collide(&mut a, &mut b, point, ct.normal, e);
                 if *logging {
                     log.push(ContactEvent {
                         t: t1,
                         a: bi,
                         b: bj,
-                        point: ct.point,
+                        point,
                         normal: ct.normal,
                         vn_before: imp.vn_before,
                         vn_after: imp.vn_after,

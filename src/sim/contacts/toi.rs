@@ -19,12 +19,8 @@
 use glam::DVec2;
 
 use super::collider::{Collider, ColliderShape};
-use super::narrow_phase::{separation, Pose};
-
-/// The most advancements of one search; a search that needs more (a spinning body
-/// grazing another) ends without an impact, and the end-of-step overlap check stands
-/// behind it.
-const MAX_ADVANCES: usize = 500;
+use super::narrow_phase::{contact, separation, Pose};
+use super::response::closes;
 
 /// A body's motion within a step: from λ_s on, r(λ) = r_s + (λ - λ_s)·Δr and
 /// θ(λ) = θ_s + (λ - λ_s)·Δθ; its velocity and spin are interpolated the same way.
@@ -127,35 +123,110 @@ fn discs(pa: &Path, pb: &Path, sum: f64, from: f64) -> Option<f64> {
 /// or parting) has no impact unless a body turns, since the gap between two convex
 /// shapes moving without turning is a convex function of λ: once it stops falling it
 /// never falls again.
+///
+/// Advancement is slow where the bodies close far more slowly than their spins could
+/// make them: two turning bodies rocking against each other, or parting at one corner
+/// while turning. After [`ADVANCES_BEFORE_SAMPLING`] advances, or at once when they
+/// touch and part while turning, the search samples the rest of the step instead
+/// ([`sample`]).
 fn advance(a: &Collider, pa: &Path, b: &Collider, pb: &Path, from: f64, tol: f64) -> Option<f64> {
-    let (reach_a, reach_b) = (a.reach, b.reach);
-    let spin = pa.dangle.abs() * reach_a + pb.dangle.abs() * reach_b;
+    let spin = pa.dangle.abs() * a.reach + pb.dangle.abs() * b.reach;
     let (aim, accept) = (0.25 * tol, 0.5 * tol);
     let mut lambda = from;
-    for _ in 0..MAX_ADVANCES {
+    for _ in 0..ADVANCES_BEFORE_SAMPLING {
         let (posa, posb) = (pa.pose(lambda), pb.pose(lambda));
         let s = separation(a, &posa, b, &posb)?;
         if s.gap <= accept {
-            // The gap's rate of change along the paths at the contact point:
-            // (u_a - u_b)·n, negative while they approach.
-            let ua = pa.point_rate(posa.r, s.point);
-            let ub = pb.point_rate(posb.r, s.point);
-            if (ua - ub).dot(s.normal) < 0.0 {
+            if approaching(a, pa, b, pb, lambda, tol) {
                 return Some(lambda);
             }
             if spin == 0.0 {
                 return None;
             }
+            return sample(a, pa, b, pb, lambda, tol);
         }
         // No point approaches faster than this along n, per unit λ.
         let closing = (-(pa.dr - pb.dr).dot(s.normal)).max(0.0) + spin;
         if closing <= 0.0 {
             return None;
         }
-        lambda += (s.gap - aim).max(aim) / closing;
+        lambda += (s.gap - aim) / closing;
         if lambda > 1.0 {
             return None;
         }
+    }
+    sample(a, pa, b, pb, lambda, tol)
+}
+
+/// Conservative advances before a search samples instead.
+const ADVANCES_BEFORE_SAMPLING: usize = 64;
+
+/// The most a body turns between two samples of [`sample`], in radians.
+const SAMPLE_TURN: f64 = 0.02;
+
+/// The fewest samples [`sample`] takes over what is left of a step.
+const MIN_SAMPLES: f64 = 16.0;
+
+/// Returns true when a and b, in contact at λ, approach along their paths at any of
+/// their contact points: where the gap's rate of change, (u_a - u_b)·n per unit λ,
+/// is negative. An edge against an edge touches at two points, and a body rocking on
+/// it approaches at one while it parts at the other; the closest points alone would
+/// tell only one of them.
+fn approaching(a: &Collider, pa: &Path, b: &Collider, pb: &Path, lambda: f64, tol: f64) -> bool {
+    let (posa, posb) = (pa.pose(lambda), pb.pose(lambda));
+    let closing = |p: DVec2, n: DVec2| {
+        let (ua, ub) = (pa.point_rate(posa.r, p), pb.point_rate(posb.r, p));
+        closes((ua - ub).dot(n), ua.length() + ub.length())
+    };
+    match contact(a, &posa, b, &posb, 2.0 * tol, tol) {
+        Some(c) => c.points().iter().any(|p| closing(*p, c.normal)),
+        // Deeper than the manifold reaches: the closest points answer.
+        None => separation(a, &posa, b, &posb).is_some_and(|s| closing(s.point, s.normal)),
+    }
+}
+
+/// Finds the first impact after `from` by sampling the gap at steps over which neither
+/// body turns more than [`SAMPLE_TURN`] (and at least [`MIN_SAMPLES`] of them), then
+/// halving the first interval whose end is in contact until the instant the gap falls
+/// to the tolerance is bracketed to round-off: the article's halving of the step.
+///
+/// What this cannot see is a contact that opens and closes again between two samples
+/// by less than the tolerance's worth of motion: two turning bodies that touch and part
+/// again within 0.02 rad of turning. The end-of-step overlap check stands behind it.
+fn sample(a: &Collider, pa: &Path, b: &Collider, pb: &Path, from: f64, tol: f64) -> Option<f64> {
+    let accept = 0.5 * tol;
+    let turn = pa.dangle.abs().max(pb.dangle.abs());
+    let rest = 1.0 - from;
+    let stride = if turn > 0.0 {
+        (SAMPLE_TURN / turn).min(rest / MIN_SAMPLES)
+    } else {
+        rest / MIN_SAMPLES
+    };
+    // In contact, and approaching at one of the contact's points.
+    let hit = |lambda: f64| {
+        separation(a, &pa.pose(lambda), b, &pb.pose(lambda))
+            .is_some_and(|s| s.gap <= accept && approaching(a, pa, b, pb, lambda, tol))
+    };
+    let mut prev = from;
+    while prev < 1.0 {
+        let next = (prev + stride).min(1.0);
+        if hit(next) {
+            // The first instant after `prev` (which is not one) that is, by halving.
+            let (mut lo, mut hi) = (prev, next);
+            for _ in 0..60 {
+                let mid = 0.5 * (lo + hi);
+                if mid <= lo || mid >= hi {
+                    break;
+                }
+                if hit(mid) {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+            return Some(hi);
+        }
+        prev = next;
     }
     None
 }
