@@ -4,6 +4,7 @@
 mod bad_input;
 mod cli_extras;
 mod closed_forms;
+mod collisions;
 mod diagnostics;
 mod docs;
 mod figures;
