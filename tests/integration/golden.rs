@@ -29,6 +29,12 @@ const SCENES: &[&str] = &[
     "spin.toml",
     "pendulum.toml",
     "gears.toml",
+    // Collisions: balls of four restitutions, a break shot, an elastic gas, and a box
+    // and a triangle landing on their corners; static bodies drawn like the others.
+    "bounce.toml",
+    "billiards.toml",
+    "gas.toml",
+    "tumble.toml",
 ];
 
 /// Our references are exact.
