@@ -72,6 +72,21 @@ pub fn run(args: CheckArgs, verbosity: Verbosity) -> Result<()> {
         } else {
             String::new()
         };
+        if b.is_static {
+            outln!(
+                out,
+                "    {}: static, at ({}, {}), {shape}{}",
+                b.name,
+                b.position.x,
+                b.position.y,
+                if b.angle != 0.0 {
+                    format!(", angle {} rad", b.angle)
+                } else {
+                    String::new()
+                }
+            );
+            continue;
+        }
         outln!(
             out,
             "    {}: mass {}, centre of mass ({}, {}), velocity ({}, {}), {shape}{spin}",
@@ -85,6 +100,21 @@ pub fn run(args: CheckArgs, verbosity: Verbosity) -> Result<()> {
     }
     if scene.bodies.len() > LISTED {
         outln!(out, "    … and {} more", scene.bodies.len() - LISTED);
+    }
+    if let Some(c) = &scene.contacts {
+        outln!(
+            out,
+            "  contacts: {} colliding bodies, restitution {}, tolerance {}",
+            c.bodies.len(),
+            c.restitution,
+            match c.tolerance {
+                Some(t) => format!("{t}"),
+                None => format!(
+                    "{:e} of the smaller body's size",
+                    crate::sim::contacts::DEFAULT_TOLERANCE
+                ),
+            }
+        );
     }
     outln!(out, "  forces: {}", scene.forces.len());
     for f in &scene.forces {
