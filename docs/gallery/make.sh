@@ -23,4 +23,6 @@ cp "$tmp/wp/work-precision.png" "$out/work-precision.png"
 # An animated preview: the spin-up of a box and a disc, at 10 frames per second.
 $pf render scenes/spin.toml --set render.width=256 --set render.height=144 \
     --set render.fps=10 --out "$tmp/spin" --apng "$out/spin.png" --quiet
+# A break shot: balls and cushions colliding, seen from above (frame 12 of 100).
+$pf figure scenes/billiards.toml --size 480x270 --frame 12 --out "$out/billiards.png" --quiet
 ls -l "$out"
