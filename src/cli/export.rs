@@ -21,7 +21,7 @@ pub struct ExportArgs {
     #[arg(long)]
     every_step: bool,
     /// Also write the collision log to this CSV file: one row per impulse,
-    /// `t,a,b,px,py,nx,ny,vn_before,vn_after,impulse`, in the order applied.
+    /// `t,a,b,px,py,nx,ny,vn_before,vn_after,impulse,jt`, in the order applied.
     #[arg(long, value_name = "FILE")]
     events: Option<PathBuf>,
 }

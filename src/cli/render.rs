@@ -47,7 +47,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "FILE")]
     apng: Option<PathBuf>,
     /// Also write the collision log to this CSV file: one row per impulse,
-    /// `t,a,b,px,py,nx,ny,vn_before,vn_after,impulse`, in the order applied, for the
+    /// `t,a,b,px,py,nx,ny,vn_before,vn_after,impulse,jt`, in the order applied, for the
     /// steps this run simulates (from t = 0, or from the checkpoint it starts at).
     #[arg(long, value_name = "FILE")]
     events: Option<PathBuf>,

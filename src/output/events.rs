@@ -9,8 +9,9 @@ use crate::sim::ContactEvent;
 
 /// The header of the collision log. a and b are body names; (nx, ny) is the unit normal
 /// from b to a; (px, py) the contact point; vn the normal part of v_AP - v_BP before
-/// and after; impulse the j applied to a along n (and -j to b).
-pub const EVENTS_HEADER: &str = "t,a,b,px,py,nx,ny,vn_before,vn_after,impulse";
+/// and after; impulse the j applied to a along n (and -j to b); jt the friction impulse
+/// applied to a along t = n⊥ = (-ny, nx) (and -jt to b).
+pub const EVENTS_HEADER: &str = "t,a,b,px,py,nx,ny,vn_before,vn_after,impulse,jt";
 
 /// A collision log being written beside its final path, and moved there when finished,
 /// so that a reader never sees half a file.
@@ -64,7 +65,7 @@ pub fn write_events(
     for e in events {
         writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{}",
             e.t,
             names[e.a],
             names[e.b],
@@ -74,7 +75,8 @@ pub fn write_events(
             e.normal.y,
             e.vn_before,
             e.vn_after,
-            e.impulse
+            e.impulse,
+            e.jt
         )?;
     }
     Ok(())

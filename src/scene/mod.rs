@@ -61,6 +61,11 @@ pub struct ContactSettings {
     /// An absolute contact tolerance for every pair, or `None` for
     /// [`crate::sim::contacts::DEFAULT_TOLERANCE`] times the smaller body's size.
     pub tolerance: Option<f64>,
+    /// The scene's friction coefficient μ ≥ 0 (default 0); a body's `friction`
+    /// overrides it, and a pair uses √(μ_a·μ_b).
+    pub friction: f64,
+    /// How contacts rest (see [`crate::sim::contacts::Resting`]).
+    pub resting: crate::sim::contacts::Resting,
     /// The bodies that collide, in body order: circles, boxes and convex polygons.
     pub bodies: Vec<usize>,
 }
@@ -206,6 +211,8 @@ pub struct Body {
     pub is_static: bool,
     /// The body's own coefficient of restitution, which overrides the scene's.
     pub restitution: Option<f64>,
+    /// The body's own friction coefficient, which overrides the scene's.
+    pub friction: Option<f64>,
 }
 
 /// A body's outline, in world units relative to its centre of mass.
@@ -330,16 +337,18 @@ pub(crate) fn contacts_of(bodies: &[Body], settings: &ContactSettings) -> Contac
         .filter_map(|&i| {
             let b = &bodies[i];
             let e = b.restitution.unwrap_or(settings.restitution);
-            match &b.shape {
+            let mu = b.friction.unwrap_or(settings.friction);
+            let c = match &b.shape {
                 Shape::Circle { radius } => Some(Collider::disc(i, *radius, e)),
                 Shape::Box { width, height } => Some(Collider::rectangle(i, *width, *height, e)),
                 // Validation refuses a colliding polygon that is not convex.
                 Shape::Polygon { points } => Collider::polygon(i, points.clone(), e).ok(),
                 Shape::Points { .. } => None,
-            }
+            };
+            c.map(|c| c.with_friction(mu))
         })
         .collect();
-    Contacts::new(colliders, settings.tolerance)
+    Contacts::new(colliders, settings.tolerance).with_resting(settings.resting)
 }
 
 /// Sets [`Body::turns`] on every body that something may turn during the run: one

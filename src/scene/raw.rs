@@ -75,6 +75,10 @@ pub struct RawScene {
 #[serde(deny_unknown_fields)]
 pub struct RawContacts {
     pub restitution: Option<Spanned<f64>>,
+    pub friction: Option<Spanned<f64>>,
+    pub rest_speed: Option<Spanned<f64>>,
+    pub slop: Option<Spanned<f64>>,
+    pub iterations: Option<Spanned<i64>>,
     pub tolerance: Option<Spanned<f64>>,
     pub bodies: Option<Spanned<Vec<Spanned<String>>>>,
 }
@@ -135,6 +139,7 @@ pub struct RawBody {
     #[serde(rename = "static")]
     pub fixed: Option<Spanned<bool>>,
     pub restitution: Option<Spanned<f64>>,
+    pub friction: Option<Spanned<f64>>,
 }
 
 /// One `[[swarm]]`: many bodies alike but for their seeded random initial state.
@@ -152,6 +157,7 @@ pub struct RawSwarm {
     pub angle: Option<Spanned<RawScalarRange>>,
     pub angular_velocity: Option<Spanned<RawScalarRange>>,
     pub restitution: Option<Spanned<f64>>,
+    pub friction: Option<Spanned<f64>>,
     pub layout: Option<Spanned<String>>,
 }
 

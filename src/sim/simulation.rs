@@ -153,8 +153,12 @@ impl Simulation {
     /// system is made to spin.
     pub fn with_contacts(mut self, contacts: Contacts) -> Self {
         let inv = self.system.inverse_masses();
+        // An impulse turns a collider that can move, unless it is a disc without
+        // friction (whose normal always passes through its centre).
         let turnable = contacts.colliders().iter().any(|c| {
-            inv[c.body] > 0.0 && !matches!(c.shape, super::contacts::ColliderShape::Disc { .. })
+            inv[c.body] > 0.0
+                && (c.friction > 0.0
+                    || !matches!(c.shape, super::contacts::ColliderShape::Disc { .. }))
         });
         if turnable && !self.system.spins() && self.system.inertia().is_some() {
             self.system.start_spinning();

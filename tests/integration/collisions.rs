@@ -580,13 +580,13 @@ fn the_collision_log_is_written_by_export_and_render_and_obeys_the_law() {
     let mut lines = a.lines();
     assert_eq!(
         lines.next(),
-        Some("t,a,b,px,py,nx,ny,vn_before,vn_after,impulse")
+        Some("t,a,b,px,py,nx,ny,vn_before,vn_after,impulse,jt")
     );
     let names = s.body_names();
     let mut rows = 0;
     for line in lines {
         let f: Vec<&str> = line.split(',').collect();
-        assert_eq!(f.len(), 10, "{line}");
+        assert_eq!(f.len(), 11, "{line}");
         let num = |k: usize| f[k].parse::<f64>().expect("a number");
         let (ia, ib) = (
             names.iter().position(|n| *n == f[1]).expect("a body name"),

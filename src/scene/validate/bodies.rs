@@ -71,8 +71,19 @@ impl Validator {
         };
         let fixed = b.fixed.as_ref().is_some_and(|f| *f.get_ref());
         let restitution = b.restitution.as_ref().map(|e| self.restitution(e));
+        let friction = match b
+            .friction
+            .as_ref()
+            .map(|m| self.non_negative(m, "friction"))
+        {
+            None => None,
+            Some(Some(m)) => Some(m),
+            Some(None) => return None,
+        };
         if fixed {
-            return self.static_body(raw, name, default_radius, color?, restitution);
+            return self
+                .static_body(raw, name, default_radius, color?, restitution)
+                .map(|b| Body { friction, ..b });
         }
         // The mass and the shape come together: either `mass` with an optional `shape`,
         // or `points`, from which both follow (Equations 7-11).
@@ -159,6 +170,7 @@ impl Validator {
                 Some(e) => Some(e?),
                 None => None,
             },
+            friction,
         })
     }
 
@@ -234,6 +246,7 @@ impl Validator {
             show_force: b.show_force.as_ref().is_some_and(|s| *s.get_ref()),
             is_static: true,
             restitution,
+            friction: None,
         })
     }
 

@@ -10,13 +10,37 @@ use super::names::{Names, Target};
 use super::Validator;
 use crate::scene::raw::{RawContacts, RawForce, RawScene, RawSimulation};
 use crate::scene::{Body, CompareRun, ContactSettings, Diagnostic, Shape, SimulationSettings};
-use crate::sim::contacts::{convexity_problem, Contacts};
+use crate::sim::contacts::{convexity_problem, Contacts, Resting, DEFAULT_ITERATIONS};
+use crate::sim::ForceSpec;
+
+/// Returns |g|·dt for the scene's strongest gravity (0 without gravity): the speed
+/// gravity adds in one step, from which the default resting speed is taken.
+pub(super) fn gravity_step(forces: &[ForceSpec], dt: f64) -> f64 {
+    let g = forces
+        .iter()
+        .filter_map(|f| match f {
+            ForceSpec::Gravity { g, .. } => Some(g.length()),
+            _ => None,
+        })
+        .fold(0.0, f64::max);
+    g * dt
+}
 
 /// What `[contacts]` says before the bodies are known.
 pub(super) struct ContactKeys {
     restitution: f64,
     tolerance: Option<f64>,
+    friction: f64,
+    rest_speed: Option<f64>,
+    slop: Option<f64>,
+    iterations: usize,
 }
+
+/// How many steps' worth of the scene's strongest gravity make the default resting
+/// speed: a contact approaching slower than 3·|g|·dt rests. Gravity adds |g|·dt to a
+/// body resting on the floor every step, so its contact is always below this, while a
+/// ball dropped from a height of a few dt²·|g| already bounces.
+pub const REST_SPEED_STEPS: f64 = 3.0;
 
 impl Validator {
     /// Checks the values of `[contacts]`.
@@ -27,12 +51,40 @@ impl Validator {
             .as_ref()
             .map_or(Some(1.0), |e| self.restitution(e));
         let tolerance = match &c.tolerance {
-            Some(t) => Some(Some(self.positive(t, "tolerance")?)),
+            Some(t) => self.positive(t, "tolerance").map(Some),
             None => Some(None),
+        };
+        let friction = c
+            .friction
+            .as_ref()
+            .map_or(Some(0.0), |m| self.non_negative(m, "friction"));
+        let rest_speed = match &c.rest_speed {
+            Some(v) => self.non_negative(v, "rest_speed").map(Some),
+            None => Some(None),
+        };
+        let slop = match &c.slop {
+            Some(v) => self.positive(v, "slop").map(Some),
+            None => Some(None),
+        };
+        let iterations = match &c.iterations {
+            None => Some(DEFAULT_ITERATIONS),
+            Some(n) if (1..=1000).contains(n.get_ref()) => Some(*n.get_ref() as usize),
+            Some(n) => {
+                self.error(
+                    Diagnostic::at(n.span(), "`iterations` must be between 1 and 1000")
+                        .label(format!("{} sweeps", n.get_ref()))
+                        .hint("the resting-contact solver's sweeps per step; 10 is the default"),
+                );
+                None
+            }
         };
         Some(ContactKeys {
             restitution: restitution?,
             tolerance: tolerance?,
+            friction: friction?,
+            rest_speed: rest_speed?,
+            slop: slop?,
+            iterations: iterations?,
         })
     }
 
@@ -45,6 +97,7 @@ impl Validator {
         keys: ContactKeys,
         names: &Names,
         bodies: &[Body],
+        gravity_step: f64,
     ) -> Option<ContactSettings> {
         let spans = BodySpans::new(raw, names);
         let mut ok = true;
@@ -120,6 +173,12 @@ impl Validator {
         let settings = ContactSettings {
             restitution: keys.restitution,
             tolerance: keys.tolerance,
+            friction: keys.friction,
+            resting: Resting {
+                speed: keys.rest_speed.unwrap_or(REST_SPEED_STEPS * gravity_step),
+                slop: keys.slop,
+                iterations: keys.iterations,
+            },
             bodies: chosen,
         };
         let mut contacts = crate::scene::contacts_of(bodies, &settings);

@@ -122,11 +122,18 @@ impl Validator {
                 self.exact_exists(raw.simulation.as_ref(), sim, bodies, forces);
             }
         }
-        let contacts = match (contact_keys, &bodies) {
-            (None, _) => Some(None),
-            (Some((table, Some(keys))), Some(bodies)) => {
-                self.contacts(&raw, table, keys, &names, bodies).map(Some)
-            }
+        let contacts = match (contact_keys, &bodies, &forces, &simulation) {
+            (None, ..) => Some(None),
+            (Some((table, Some(keys))), Some(bodies), Some(forces), Some(sim)) => self
+                .contacts(
+                    &raw,
+                    table,
+                    keys,
+                    &names,
+                    bodies,
+                    contacts::gravity_step(forces, sim.dt),
+                )
+                .map(Some),
             _ => None,
         };
         let hash = hex(&Sha256::digest(text.as_bytes()));
@@ -137,7 +144,8 @@ impl Validator {
             // a disc's normal always passes through its centre.
             for &i in &c.bodies {
                 let b = &mut bodies[i];
-                if !b.is_static && !matches!(b.shape, super::Shape::Circle { .. }) {
+                let friction = b.friction.unwrap_or(c.friction) > 0.0;
+                if !b.is_static && (friction || !matches!(b.shape, super::Shape::Circle { .. })) {
                     b.turns = true;
                 }
             }

@@ -125,6 +125,19 @@ impl Validator {
                     continue;
                 }
             };
+            let friction = match s
+                .friction
+                .as_ref()
+                .map(|m| self.non_negative(m, "friction"))
+            {
+                None => None,
+                Some(Some(m)) => Some(m),
+                Some(None) => {
+                    ok = false;
+                    first += count;
+                    continue;
+                }
+            };
             let restitution = match s.restitution.as_ref().map(|e| self.restitution(e)) {
                 None => None,
                 Some(Some(e)) => Some(e),
@@ -170,6 +183,7 @@ impl Validator {
                     show_force: false,
                     is_static: false,
                     restitution,
+                    friction,
                 });
             }
             first += count;

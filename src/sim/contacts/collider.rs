@@ -6,7 +6,7 @@
 //! one shape at one pose; what two shapes do to each other is in `narrow_phase.rs`.
 
 use glam::DVec2;
-use parry2d_f64::shape::{Ball, ConvexPolygon};
+use parry2d_f64::shape::{Ball, ConvexPolygon, Cuboid};
 
 use crate::sim::rigid::rotate;
 
@@ -20,6 +20,8 @@ pub enum ColliderShape {
     Convex {
         points: Vec<DVec2>,
         shape: Box<ConvexPolygon>,
+        /// The same shape as parry's box, when it is one (its half-extents).
+        cuboid: Option<Cuboid>,
     },
 }
 
@@ -39,6 +41,9 @@ pub struct Collider {
     /// The coefficient of restitution the body asks for (the scene's unless it gives
     /// its own).
     pub restitution: f64,
+    /// The friction coefficient the body asks for (the scene's unless it gives its
+    /// own); a pair uses √(μ_a·μ_b).
+    pub friction: f64,
 }
 
 /// Why a polygon cannot collide.
@@ -65,6 +70,12 @@ pub fn convexity_problem(points: &[DVec2]) -> Option<PolygonProblem> {
 }
 
 impl Collider {
+    /// Returns the collider with friction coefficient μ.
+    pub fn with_friction(mut self, mu: f64) -> Self {
+        self.friction = mu;
+        self
+    }
+
     /// Returns the collider of a disc.
     pub fn disc(body: usize, radius: f64, restitution: f64) -> Self {
         Collider {
@@ -73,6 +84,7 @@ impl Collider {
             reach: radius,
             size: 2.0 * radius,
             restitution,
+            friction: 0.0,
         }
     }
 
@@ -86,7 +98,12 @@ impl Collider {
             DVec2::new(x, y),
             DVec2::new(-x, y),
         ];
-        Self::polygon(body, points, restitution).expect("a box of positive sides is convex")
+        let mut c =
+            Self::polygon(body, points, restitution).expect("a box of positive sides is convex");
+        if let ColliderShape::Convex { cuboid, .. } = &mut c.shape {
+            *cuboid = Some(Cuboid::new(to_parry(DVec2::new(x, y))));
+        }
+        c
     }
 
     /// Returns the collider of a convex polygon whose vertices are given relative to
@@ -109,10 +126,12 @@ impl Collider {
             shape: ColliderShape::Convex {
                 points,
                 shape: Box::new(shape),
+                cuboid: None,
             },
             reach,
             size,
             restitution,
+            friction: 0.0,
         })
     }
 

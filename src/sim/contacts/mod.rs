@@ -39,6 +39,7 @@ mod broad_phase;
 pub mod collider;
 pub mod narrow_phase;
 pub mod response;
+pub mod solver;
 mod sweep;
 pub mod toi;
 
@@ -52,6 +53,39 @@ use response::Inverse;
 /// The default contact tolerance as a fraction of the smaller body's size (its least
 /// width): two bodies closer than this count as touching.
 pub const DEFAULT_TOLERANCE: f64 = 1e-6;
+
+/// How contacts that touch without colliding rest (the resting-contact solver's
+/// settings; see `solver.rs`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Resting {
+    /// Bodies that approach at no more than this speed at a contact rest there: they
+    /// take the solver's impulses, without bounce, and the collision log does not
+    /// record them. Faster approaches are collisions, with the restitution law.
+    pub speed: f64,
+    /// How deep resting bodies may overlap before they are pushed apart, in world
+    /// units; `None` for [`DEFAULT_SLOP`] times the smaller body's size.
+    pub slop: Option<f64>,
+    /// Sweeps of the resting-contact solver over every contact, each step.
+    pub iterations: usize,
+}
+
+impl Default for Resting {
+    fn default() -> Self {
+        Resting {
+            speed: 0.0,
+            slop: None,
+            iterations: DEFAULT_ITERATIONS,
+        }
+    }
+}
+
+/// The default slop as a fraction of the smaller body's size: resting bodies may
+/// overlap by this much, as Box2D's linear slop lets them (0.5 cm for its metre-sized
+/// bodies), so that a stack rests on contacts that stay touching from step to step.
+pub const DEFAULT_SLOP: f64 = 1e-3;
+
+/// The default sweeps of the resting-contact solver per step.
+pub const DEFAULT_ITERATIONS: usize = 10;
 
 /// One impulse, as the collision log records it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -72,6 +106,9 @@ pub struct ContactEvent {
     pub vn_after: f64,
     /// The impulse j applied to a along n (and -j to b).
     pub impulse: f64,
+    /// The tangential (friction) impulse applied to a along t = n⊥ (and its opposite
+    /// to b); |jt| ≤ μ·impulse.
+    pub jt: f64,
 }
 
 /// Two bodies left overlapping deeper than the tolerance.
@@ -89,9 +126,14 @@ pub struct Contacts {
     /// An absolute tolerance for every pair, or `None` for DEFAULT_TOLERANCE times the
     /// smaller body's size.
     tolerance: Option<f64>,
+    /// How contacts rest.
+    resting: Resting,
     /// Whether impulses are recorded for the collision log.
     logging: bool,
     log: Vec<ContactEvent>,
+    /// The impulses the resting contacts needed last step, which start this step's:
+    /// part of the simulation's state (checkpoints carry it).
+    warm: solver::WarmStart,
     scratch: sweep::Scratch,
 }
 
@@ -100,8 +142,10 @@ impl Clone for Contacts {
         Contacts {
             colliders: self.colliders.clone(),
             tolerance: self.tolerance,
+            resting: self.resting,
             logging: self.logging,
             log: self.log.clone(),
+            warm: self.warm.clone(),
             scratch: sweep::Scratch::default(),
         }
     }
@@ -124,10 +168,40 @@ impl Contacts {
         Contacts {
             colliders,
             tolerance,
+            resting: Resting::default(),
             logging: false,
             log: Vec::new(),
+            warm: solver::WarmStart::new(),
             scratch: sweep::Scratch::default(),
         }
+    }
+
+    /// Returns the contacts with these resting settings.
+    pub fn with_resting(mut self, resting: Resting) -> Self {
+        self.resting = resting;
+        self
+    }
+
+    /// Returns the resting contacts' impulses of the last step (the warm start of the
+    /// next), in a fixed order: (collider i, collider j, point's features, P_n, P_t).
+    pub fn warm_start(&self) -> Vec<(u32, u32, u64, f64, f64)> {
+        self.warm
+            .iter()
+            .map(|(&(i, j, id), &(pn, pt))| (i, j, id, pn, pt))
+            .collect()
+    }
+
+    /// Restores the warm start that [`Contacts::warm_start`] returned.
+    pub fn set_warm_start(&mut self, entries: &[(u32, u32, u64, f64, f64)]) {
+        self.warm = entries
+            .iter()
+            .map(|&(i, j, id, pn, pt)| ((i, j, id), (pn, pt)))
+            .collect();
+    }
+
+    /// Returns the resting settings.
+    pub fn resting(&self) -> Resting {
+        self.resting
     }
 
     /// Returns the colliders.

@@ -10,7 +10,9 @@
 
 use glam::DVec2;
 use parry2d_f64::math::{Pose as ParryPose, Rot2};
-use parry2d_f64::query::details::{contact_manifold_convex_ball, contact_manifold_pfm_pfm};
+use parry2d_f64::query::details::{
+    contact_manifold_convex_ball, contact_manifold_cuboid_cuboid, contact_manifold_pfm_pfm,
+};
 use parry2d_f64::query::{self, ContactManifold};
 
 use super::collider::{from_parry, to_parry, Collider, ColliderShape};
@@ -61,6 +63,12 @@ pub struct Contact {
     pub points: [DVec2; 2],
     /// How many of `points` there are: 1 or 2.
     pub count: usize,
+    /// Each point's own gap (signed distance along the normal).
+    pub gaps: [f64; 2],
+    /// Each point's features on the two shapes, packed: what a contact point is called
+    /// from one step to the next, so that the resting-contact solver can start it from
+    /// the impulse it needed last step.
+    pub ids: [u64; 2],
 }
 
 impl Contact {
@@ -87,9 +95,27 @@ pub fn contact(
         (ColliderShape::Disc { radius: ra }, ColliderShape::Disc { radius: rb }) => {
             discs(pa.r, *ra, pb.r, *rb, prediction)
         }
-        (ColliderShape::Convex { shape: sa, .. }, ColliderShape::Convex { shape: sb, .. }) => {
+        (
+            ColliderShape::Convex {
+                shape: sa,
+                cuboid: ca,
+                ..
+            },
+            ColliderShape::Convex {
+                shape: sb,
+                cuboid: cb,
+                ..
+            },
+        ) => {
             let mut m = ContactManifold::<(), ()>::new();
             let pos12 = pa.to_parry().inv_mul(&pb.to_parry());
+            if let (Some(ca), Some(cb)) = (ca, cb) {
+                // Two boxes: parry's separating-axis manifold, which is right even for
+                // boxes that touch exactly side by side (the general polygon one takes
+                // them for overlapping through their full height).
+                contact_manifold_cuboid_cuboid(&pos12, ca, cb, prediction, &mut m);
+                return from_manifold(&m, pa, pb, tol);
+            }
             contact_manifold_pfm_pfm(
                 &pos12,
                 sa.as_ref(),
@@ -101,7 +127,43 @@ pub fn contact(
                 prediction,
                 &mut m,
             );
-            from_manifold(&m, pa, pb, tol)
+            let c = from_manifold(&m, pa, pb, tol)?;
+            // The general manifold can take two polygons that touch exactly for deeply
+            // overlapping; GJK's distance then tells, and the manifold is taken again
+            // with b moved apart by a little, its gaps moved back by as much.
+            let limit = tol.max(1e-12 * (a.reach + b.reach));
+            if c.gap < -limit {
+                let true_gap = separation(a, pa, b, pb)?.gap;
+                if true_gap > c.gap + limit {
+                    let away = (pb.r - pa.r).normalize_or(DVec2::Y) * (4.0 * limit);
+                    let moved = Pose {
+                        r: pb.r + away,
+                        ..*pb
+                    };
+                    let mut m = ContactManifold::<(), ()>::new();
+                    let pos12 = pa.to_parry().inv_mul(&moved.to_parry());
+                    contact_manifold_pfm_pfm(
+                        &pos12,
+                        sa.as_ref(),
+                        0.0,
+                        None,
+                        sb.as_ref(),
+                        0.0,
+                        None,
+                        prediction + 4.0 * limit,
+                        &mut m,
+                    );
+                    let mut c = from_manifold(&m, pa, &moved, tol)?;
+                    // Moving b by `away` opened every gap along n by -away·n.
+                    let opened = -away.dot(c.normal);
+                    c.gap -= opened;
+                    for g in &mut c.gaps {
+                        *g -= opened;
+                    }
+                    return (c.gap <= prediction).then_some(c);
+                }
+            }
+            Some(c)
         }
         (ColliderShape::Convex { shape: sa, .. }, ColliderShape::Disc { .. }) => {
             let ball = b.ball()?;
@@ -121,6 +183,7 @@ pub fn contact(
         }
         (ColliderShape::Disc { .. }, ColliderShape::Convex { .. }) => {
             // The same query with the roles swapped, and the normal turned back.
+            // (Feature ids name b's feature first then; they only need to be stable.)
             contact(b, pb, a, pa, prediction, tol).map(|c| Contact {
                 normal: -c.normal,
                 ..c
@@ -160,6 +223,8 @@ pub fn separation(a: &Collider, pa: &Pose, b: &Collider, pb: &Pose) -> Option<Co
         point,
         points: [point, point],
         count: 1,
+        gaps: [c.dist, c.dist],
+        ids: [0, 0],
     })
 }
 
@@ -192,6 +257,8 @@ fn discs(ra: DVec2, rad_a: f64, rb: DVec2, rad_b: f64, prediction: f64) -> Optio
         point,
         points: [point, point],
         count: 1,
+        gaps: [gap, gap],
+        ids: [0, 0],
     })
 }
 
@@ -208,15 +275,21 @@ fn from_manifold(m: &ContactManifold<(), ()>, pa: &Pose, pb: &Pose, tol: f64) ->
         return None;
     }
     let mut points = [DVec2::ZERO; 2];
+    let mut gaps = [gap; 2];
+    let mut ids = [0u64; 2];
     let mut count = 0;
     for p in m.points.iter().filter(|p| p.dist <= gap + tol).take(2) {
         let on_a = pa.apply(from_parry(p.local_p1));
         let on_b = pb.apply(from_parry(p.local_p2));
         points[count] = 0.5 * (on_a + on_b);
+        gaps[count] = p.dist;
+        ids[count] = (u64::from(p.fid1.0) << 32) | u64::from(p.fid2.0);
         count += 1;
     }
     if count == 1 {
         points[1] = points[0];
+        gaps[1] = gaps[0];
+        ids[1] = ids[0];
     }
     let normal = -rotate(pa.sin_cos, from_parry(m.local_n1));
     Some(Contact {
@@ -225,6 +298,8 @@ fn from_manifold(m: &ContactManifold<(), ()>, pa: &Pose, pb: &Pose, tol: f64) ->
         point: 0.5 * (points[0] + points[1]),
         points,
         count,
+        gaps,
+        ids,
     })
 }
 
@@ -323,5 +398,44 @@ mod tests {
         let s = separation(&wall, &at(0.0, 0.0, 0.0), &disc, &at(5.0, 0.0, 0.0))
             .expect("parry answers");
         assert!((s.gap - 4.0).abs() < 1e-12 && (s.normal + DVec2::X).length() < 1e-12);
+    }
+}
+
+#[cfg(test)]
+mod touching_tests {
+    use super::*;
+
+    #[test]
+    fn boxes_and_polygons_side_by_side_touch_and_do_not_overlap() {
+        // Two unit squares exactly side by side, as boxes and as polygons.
+        let square = vec![
+            DVec2::new(-0.5, -0.5),
+            DVec2::new(0.5, -0.5),
+            DVec2::new(0.5, 0.5),
+            DVec2::new(-0.5, 0.5),
+        ];
+        let pairs = [
+            (
+                Collider::rectangle(0, 1.0, 1.0, 1.0),
+                Collider::rectangle(1, 1.0, 1.0, 1.0),
+            ),
+            (
+                Collider::polygon(0, square.clone(), 1.0).expect("convex"),
+                Collider::polygon(1, square, 1.0).expect("convex"),
+            ),
+        ];
+        for (a, b) in pairs {
+            for dx in [1.0, 1.0 + 1e-9, 1.0 - 1e-9] {
+                let pa = Pose::new(DVec2::new(0.0, 0.5), 0.0);
+                let pb = Pose::new(DVec2::new(dx, 0.5), 0.0);
+                let c = contact(&a, &pa, &b, &pb, 0.01, 0.01).expect("in contact");
+                assert!((c.gap - (dx - 1.0)).abs() < 1e-12, "dx {dx}: gap {}", c.gap);
+                assert!(
+                    (c.normal + DVec2::X).length() < 1e-12,
+                    "dx {dx}: {}",
+                    c.normal
+                );
+            }
+        }
     }
 }

@@ -42,10 +42,12 @@ pub struct Side {
     pub omega: f64,
 }
 
-/// What an impulse did: j, and the normal relative velocity before and after.
+/// What an impulse did: j along n, j_t along t = n⊥, and the normal relative
+/// velocity before and after.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Impulse {
     pub j: f64,
+    pub jt: f64,
     pub vn_before: f64,
     pub vn_after: f64,
 }
@@ -65,10 +67,11 @@ pub fn normal_velocity(a: &Side, b: &Side, p: DVec2, n: DVec2) -> f64 {
 pub const APPROACH_EPSILON: f64 = 1e-9;
 
 /// Returns true when a closing rate `rate` (negative: closing) of two points moving at
-/// `scale` (the sum of their speeds) is an approach.
+/// `scale` (the sum of their speeds) is an approach faster than `rest` (the resting
+/// speed, in the same units; 0 without resting contact).
 #[inline]
-pub fn closes(rate: f64, scale: f64) -> bool {
-    rate < -APPROACH_EPSILON * scale
+pub fn closes(rate: f64, scale: f64, rest: f64) -> bool {
+    rate < -(APPROACH_EPSILON * scale).max(rest)
 }
 
 /// Returns the normal relative velocity at P and the speed scale it is measured
@@ -93,12 +96,21 @@ fn normal_velocity_and_scale(a: &Side, b: &Side, p: DVec2, n: DVec2) -> (f64, f6
 /// the point, v_n'(P*) = -e·v_n(P*): the article's impulse at P* is this one. Struck
 /// one point at a time instead, a box rocking on an edge would be struck at each end in
 /// turn without end.
-pub fn strike_point(a: &Side, b: &Side, points: &[DVec2], n: DVec2, e: f64) -> Option<DVec2> {
+///
+/// Only an approach faster than `rest`, the resting speed, is struck: slower ones rest.
+pub fn strike_point(
+    a: &Side,
+    b: &Side,
+    points: &[DVec2],
+    n: DVec2,
+    e: f64,
+    rest: f64,
+) -> Option<DVec2> {
     let vn: Vec<(f64, f64)> = points
         .iter()
         .map(|p| normal_velocity_and_scale(a, b, *p, n))
         .collect();
-    if !vn.iter().any(|(v, scale)| closes(*v, *scale)) {
+    if !vn.iter().any(|(v, scale)| closes(*v, *scale, rest)) {
         return None;
     }
     if points.len() == 1 || (points[0] - points[1]).length_squared() == 0.0 {
@@ -138,11 +150,20 @@ pub fn strike_point(a: &Side, b: &Side, points: &[DVec2], n: DVec2, e: f64) -> O
 }
 
 /// Applies the impulse of restitution e at P along n (from B to A) to both sides'
-/// velocities and spins, and returns it with v_n before and after.
+/// velocities and spins, with Coulomb friction of coefficient μ along the tangent
+/// t = n⊥, and returns it with v_n before and after.
+///
+/// Without friction (μ = 0) it is the article's impulse j·n. With friction the impulse
+/// is j·n + j_t·t, and the pair (j, j_t) solves K·(j, j_t) = (-(1 + e)·v_n, -v_t), with
+/// K the 2 × 2 matrix of the velocity changes a unit impulse along n or t makes at P:
+/// the normal velocity leaves at -e·v_n and the point stops sliding. When that needs
+/// |j_t| > μ·j the points slide: j_t = ∓μ·j against the sliding, and the normal row
+/// alone gives j = -(1 + e)·v_n / (K_nn ∓ μ·K_nt). Either way v_n' = -e·v_n exactly,
+/// and |j_t| ≤ μ·j.
 ///
 /// The caller applies it only when v_n < 0 (approaching).
 #[inline]
-pub fn collide(a: &mut Side, b: &mut Side, p: DVec2, n: DVec2, e: f64) -> Impulse {
+pub fn collide(a: &mut Side, b: &mut Side, p: DVec2, n: DVec2, e: f64, mu: f64) -> Impulse {
     let vn_before = normal_velocity(a, b, p, n);
     let (ra, rb) = (p - a.centre, p - b.centre);
     // r⊥·n for each arm: the lever of the normal impulse about each centre of mass.
@@ -150,19 +171,67 @@ pub fn collide(a: &mut Side, b: &mut Side, p: DVec2, n: DVec2, e: f64) -> Impuls
     // K = 1/M_A + 1/M_B + (r_AP⊥·n)²/I_A + (r_BP⊥·n)²/I_B: the normal relative velocity
     // a unit impulse makes.
     let k = a.inv.mass + b.inv.mass + ran * ran * a.inv.inertia + rbn * rbn * b.inv.inertia;
-    // j = -(1 + e)·v_n / K.
-    let j = -(1.0 + e) * vn_before / k;
+    let (j, jt) = if mu > 0.0 {
+        with_friction(a, b, p, n, vn_before, e, mu)
+    } else {
+        // j = -(1 + e)·v_n / K.
+        (-(1.0 + e) * vn_before / k, 0.0)
+    };
     // v_A' = v_A + (j/M_A)·n, ω_A' = ω_A + (r_AP⊥·j·n)/I_A, and the opposite on B.
     a.v += (j * a.inv.mass) * n;
     a.omega += ran * j * a.inv.inertia;
     b.v -= (j * b.inv.mass) * n;
     b.omega -= rbn * j * b.inv.inertia;
+    if jt != 0.0 {
+        // The same for the friction impulse j_t·t.
+        let t = n.perp();
+        let (rat, rbt) = (perp_dot(ra, t), perp_dot(rb, t));
+        a.v += (jt * a.inv.mass) * t;
+        a.omega += rat * jt * a.inv.inertia;
+        b.v -= (jt * b.inv.mass) * t;
+        b.omega -= rbt * jt * b.inv.inertia;
+    }
     let vn_after = normal_velocity(a, b, p, n);
     Impulse {
         j,
+        jt,
         vn_before,
         vn_after,
     }
+}
+
+/// Returns (j, j_t) for [`collide`] with friction μ > 0.
+fn with_friction(a: &Side, b: &Side, p: DVec2, n: DVec2, vn: f64, e: f64, mu: f64) -> (f64, f64) {
+    let t = n.perp();
+    let (ra, rb) = (p - a.centre, p - b.centre);
+    let vap = point_velocity(a.v, a.omega, ra);
+    let vbp = point_velocity(b.v, b.omega, rb);
+    let vt = (vap - vbp).dot(t);
+    let k = |x: DVec2, y: DVec2| {
+        (a.inv.mass + b.inv.mass) * x.dot(y)
+            + perp_dot(ra, x) * perp_dot(ra, y) * a.inv.inertia
+            + perp_dot(rb, x) * perp_dot(rb, y) * b.inv.inertia
+    };
+    let (knn, knt, ktt) = (k(n, n), k(n, t), k(t, t));
+    let bn = -(1.0 + e) * vn;
+    // Sticking: both rows, solved by Cramer's rule.
+    let det = knn * ktt - knt * knt;
+    if det > 0.0 {
+        let j = (ktt * bn + knt * vt) / det;
+        let jt = (-knt * bn - knn * vt) / det;
+        if jt.abs() <= mu * j {
+            return (j, jt);
+        }
+    }
+    // Sliding: j_t = -μ·j·sign(v_t) opposes the slide (the sticking impulse's sign,
+    // which is that of -v_t when K is diagonal).
+    let s = if vt > 0.0 { -1.0 } else { 1.0 };
+    let denom = knn + s * mu * knt;
+    if denom > 0.0 {
+        let j = bn / denom;
+        return (j, s * mu * j);
+    }
+    (bn / knn, 0.0)
 }
 
 #[cfg(test)]
@@ -185,7 +254,7 @@ mod tests {
     fn equal_discs_head_on_with_e_1_swap_velocities() {
         let mut a = side(1.0, 0.5, DVec2::new(1.0, 0.0), DVec2::new(-3.0, 0.0), 0.0);
         let mut b = side(1.0, 0.5, DVec2::new(-1.0, 0.0), DVec2::new(2.0, 0.0), 0.0);
-        let i = collide(&mut a, &mut b, DVec2::ZERO, DVec2::X, 1.0);
+        let i = collide(&mut a, &mut b, DVec2::ZERO, DVec2::X, 1.0, 0.0);
         assert_eq!(a.v, DVec2::new(2.0, 0.0));
         assert_eq!(b.v, DVec2::new(-3.0, 0.0));
         assert_eq!((i.vn_before, i.vn_after), (-5.0, 5.0));
@@ -206,7 +275,7 @@ mod tests {
         );
         let p = DVec2::new(-1.0, 0.4);
         let e = 0.5;
-        let imp = collide(&mut a, &mut wall, p, DVec2::X, e);
+        let imp = collide(&mut a, &mut wall, p, DVec2::X, e, 0.0);
         // ω = r_AP⊥·(j·n)/I.
         let expected = perp_dot(p, imp.j * DVec2::X) / i_box;
         assert!((a.omega - expected).abs() <= 1e-15 * expected.abs());

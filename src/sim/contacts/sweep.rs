@@ -10,15 +10,21 @@ use parry2d_f64::bounding_volume::Aabb;
 
 use super::broad_phase::{overlap, swept_box, BroadPhase};
 use super::narrow_phase::{contact, Contact, Pose};
-use super::response::{closes, collide, strike_point, Inverse, Side};
+use super::response::{closes, collide, normal_velocity, strike_point, Inverse, Side};
+use super::solver::{self, effective_mass, Manifold, Point, Velocities};
 use super::toi::{time_of_impact, Path};
 use super::{inverse, ContactEvent, Contacts, Overlap};
+use crate::sim::rigid::perp_dot;
 use crate::sim::{State, System};
 
-/// Sweeps over the contacts that touch at the step's end before the step gives up on
-/// making every one of them part (a tall stack of plastic bodies converges slowly;
-/// what is left approaches so slowly that the next step takes it up).
+/// Sweeps over the contacts that collide at the step's end before the step leaves the
+/// rest to the resting-contact solver.
 const MAX_END_SWEEPS: usize = 100;
+
+/// How many slops resting bodies may overlap before the run stops: the solver keeps a
+/// resting overlap under one slop, and pushes back anything deeper by a fifth of its
+/// excess per pass.
+const OVERLAP_SLOPS: f64 = 4.0;
 
 /// Impacts in one step, per colliding body, past which the step stops searching for
 /// more and leaves what is left to the resting contacts at its end and the overlap
@@ -45,6 +51,7 @@ pub(super) struct Scratch {
     broad: BroadPhase,
     query: Vec<u32>,
     touching: Vec<(u32, u32, Contact)>,
+    manifolds: Vec<Manifold>,
 }
 
 /// An impact of colliders i < j at step fraction λ, valid while neither has been
@@ -81,16 +88,36 @@ impl Contacts {
         let Contacts {
             colliders,
             tolerance,
+            resting,
             logging,
             log,
+            warm,
             scratch: s,
         } = self;
+        let resting = *resting;
         let n = colliders.len();
         let h = t1 - t0;
         let tol = |i: usize, j: usize| {
             tolerance.unwrap_or(super::DEFAULT_TOLERANCE * colliders[i].size.min(colliders[j].size))
         };
-        let margin = |i: usize| tolerance.unwrap_or(super::DEFAULT_TOLERANCE * colliders[i].size);
+        let margin = |i: usize| {
+            let own = tolerance.unwrap_or(super::DEFAULT_TOLERANCE * colliders[i].size);
+            // Resting contacts are found up to the slop apart.
+            if resting.speed > 0.0 {
+                own + resting
+                    .slop
+                    .unwrap_or(super::DEFAULT_SLOP * colliders[i].size)
+            } else {
+                own
+            }
+        };
+        let slop = |i: usize, j: usize| {
+            resting
+                .slop
+                .unwrap_or(super::DEFAULT_SLOP * colliders[i].size.min(colliders[j].size))
+        };
+        // The resting speed as a closing rate per unit of λ along the paths.
+        let rest = resting.speed * h;
 
         // Each body's path through the step, from what the integrator did.
         s.paths.clear();
@@ -150,6 +177,7 @@ impl Contacts {
                 &s.paths[ju],
                 0.0,
                 tol(iu, ju),
+                rest,
             ) {
                 s.heap.push(Reverse(Event {
                     lambda: lambda.to_bits(),
@@ -194,8 +222,9 @@ impl Contacts {
                 break;
             }
             let e = colliders[i].restitution.max(colliders[j].restitution);
-            if let Some(point) = strike_point(&a, &b, ct.points(), ct.normal, e) {
-                let imp = collide(&mut a, &mut b, point, ct.normal, e);
+            if let Some(point) = strike_point(&a, &b, ct.points(), ct.normal, e, resting.speed) {
+                let mu = (colliders[i].friction * colliders[j].friction).sqrt();
+                let imp = collide(&mut a, &mut b, point, ct.normal, e, mu);
                 if *logging {
                     log.push(ContactEvent {
                         t: t0 + lambda * h,
@@ -206,6 +235,7 @@ impl Contacts {
                         vn_before: imp.vn_before,
                         vn_after: imp.vn_after,
                         impulse: imp.j,
+                        jt: imp.jt,
                     });
                 }
                 s.paths[i] = restart(&s.paths[i], lambda, a.v - vi, a.omega - wi, h, DVec2::ZERO);
@@ -227,7 +257,7 @@ impl Contacts {
                     })
                     .fold((f64::INFINITY, 0.0), |m, x| if x.0 < m.0 { x } else { m });
                 let total = s.inv[i].mass + s.inv[j].mass;
-                if !closes(closing, scale) || total == 0.0 {
+                if !closes(closing, scale, rest) || total == 0.0 {
                     continue;
                 }
                 let shift = -closing / total * ct.normal;
@@ -253,15 +283,7 @@ impl Contacts {
                     continue;
                 }
                 s.version[k] += 1;
-                requery(
-                    k,
-                    lambda,
-                    colliders,
-                    s,
-                    &margin,
-                    &tol,
-                    &|inv: &[Inverse], a: usize, b: usize| fixed(inv, a) && fixed(inv, b),
-                );
+                requery(k, lambda, colliders, s, &margin, &tol, rest);
             }
         }
 
@@ -280,8 +302,9 @@ impl Contacts {
         }
         let mut changed = !s.changed_list.is_empty();
 
-        // 4. and 5. Pairs that touch at the step's end: none may overlap deeper than
-        // its tolerance, and those that approach take their impulses now.
+        // 4. Contacts at the step's end: none may overlap deeper than its allowance,
+        // those that approach faster than the resting speed collide now, and the rest
+        // go to the resting-contact solver.
         s.pairs.extend_from_slice(&s.found);
         s.pairs.sort_unstable();
         s.pairs.dedup();
@@ -292,11 +315,20 @@ impl Contacts {
             let (bi, bj) = (colliders[iu].body, colliders[ju].body);
             let pi = Pose::new(end.pos[bi], end.angle[bi]);
             let pj = Pose::new(end.pos[bj], end.angle[bj]);
-            let t = tol(iu, ju);
-            let Some(ct) = contact(&colliders[iu], &pi, &colliders[ju], &pj, t, t) else {
+            let (t, sl) = (tol(iu, ju), slop(iu, ju));
+            // With resting contact, points up to the slop apart are the solver's
+            // (speculative: they may close that gap, no more); without, only touching
+            // points matter.
+            let reach = if resting.speed > 0.0 { sl } else { t };
+            let Some(ct) = contact(&colliders[iu], &pi, &colliders[ju], &pj, reach, reach) else {
                 continue;
             };
-            if ct.gap < -t && deepest.is_none_or(|d| -ct.gap > d.depth) {
+            let allowed = t + if resting.speed > 0.0 {
+                OVERLAP_SLOPS * sl
+            } else {
+                0.0
+            };
+            if ct.gap < -allowed && deepest.is_none_or(|d| -ct.gap > d.depth) {
                 deepest = Some(Overlap {
                     a: bi,
                     b: bj,
@@ -308,11 +340,13 @@ impl Contacts {
         if let Some(d) = deepest {
             return Err(d);
         }
+        // 4a. Collisions at the step's end, pair by pair in order, sweep after sweep.
         for _ in 0..MAX_END_SWEEPS {
             let mut any = false;
             for &(i, j, ct) in &s.touching {
                 let (iu, ju) = (i as usize, j as usize);
                 let (bi, bj) = (colliders[iu].body, colliders[ju].body);
+                let t = tol(iu, ju);
                 let mut a = Side {
                     inv: s.inv[iu],
                     centre: end.pos[bi],
@@ -326,10 +360,22 @@ impl Contacts {
                     omega: if spins { end.omega[bj] } else { 0.0 },
                 };
                 let e = colliders[iu].restitution.max(colliders[ju].restitution);
-                let Some(point) = strike_point(&a, &b, ct.points(), ct.normal, e) else {
+                // Only the points that touch collide.
+                let mut touching = [DVec2::ZERO; 2];
+                let mut count = 0;
+                for (p, g) in ct.points().iter().zip(ct.gaps) {
+                    if g <= t {
+                        touching[count] = *p;
+                        count += 1;
+                    }
+                }
+                let Some(point) =
+                    strike_point(&a, &b, &touching[..count], ct.normal, e, resting.speed)
+                else {
                     continue;
                 };
-                let imp = collide(&mut a, &mut b, point, ct.normal, e);
+                let mu = (colliders[iu].friction * colliders[ju].friction).sqrt();
+                let imp = collide(&mut a, &mut b, point, ct.normal, e, mu);
                 if *logging {
                     log.push(ContactEvent {
                         t: t1,
@@ -340,6 +386,7 @@ impl Contacts {
                         vn_before: imp.vn_before,
                         vn_after: imp.vn_after,
                         impulse: imp.j,
+                        jt: imp.jt,
                     });
                 }
                 for (body, side, k) in [(bi, &a, iu), (bj, &b, ju)] {
@@ -357,8 +404,107 @@ impl Contacts {
                 break;
             }
         }
+        // 4b. Resting contacts, solved together (`solver.rs`).
+        if resting.speed > 0.0 {
+            s.manifolds.clear();
+            for &(i, j, ct) in &s.touching {
+                let (iu, ju) = (i as usize, j as usize);
+                let (bi, bj) = (colliders[iu].body, colliders[ju].body);
+                // A contact still apart whose bodies close faster than the resting
+                // speed is a collision to come, for the next step's impacts: the
+                // solver must not brake it.
+                if ct.gap > tol(iu, ju) {
+                    let side = |k: usize, b: usize| Side {
+                        inv: s.inv[k],
+                        centre: end.pos[b],
+                        v: end.vel[b],
+                        omega: if spins { end.omega[b] } else { 0.0 },
+                    };
+                    let (sa, sb) = (side(iu, bi), side(ju, bj));
+                    if ct
+                        .points()
+                        .iter()
+                        .any(|p| normal_velocity(&sa, &sb, *p, ct.normal) < -resting.speed)
+                    {
+                        continue;
+                    }
+                }
+                let pair = (s.inv[iu], s.inv[ju]);
+                let t = ct.normal.perp();
+                let mut m = Manifold {
+                    i,
+                    j,
+                    bi,
+                    bj,
+                    normal: ct.normal,
+                    friction: (colliders[iu].friction * colliders[ju].friction).sqrt(),
+                    points: [Point::default(); 2],
+                    count: ct.count,
+                };
+                for k in 0..ct.count {
+                    let (ra, rb) = (ct.points[k] - end.pos[bi], ct.points[k] - end.pos[bj]);
+                    m.points[k] = Point {
+                        ra,
+                        rb,
+                        normal_mass: effective_mass(pair, ra, rb, ct.normal),
+                        tangent_mass: effective_mass(pair, ra, rb, t),
+                        // Apart by a gap, the point may close it within the step.
+                        bias: -(ct.gaps[k].max(0.0)) / h,
+                        pn: 0.0,
+                        pt: 0.0,
+                        id: ct.ids[k],
+                    };
+                }
+                s.manifolds.push(m);
+            }
+            if !s.manifolds.is_empty() {
+                let (vel, omega) = (&mut end.vel, &mut end.omega);
+                let mut v = Velocities { vel, omega, spins };
+                solver::solve(&mut s.manifolds, &s.inv, &mut v, resting.iterations, warm);
+                changed = true;
+                // 5. Relax positions: push apart what overlaps by more than the slop.
+                for _ in 0..solver::position_passes() {
+                    for m in s.manifolds.iter() {
+                        let (iu, ju) = (m.i as usize, m.j as usize);
+                        let (bi, bj) = (m.bi, m.bj);
+                        let pi = Pose::new(end.pos[bi], end.angle[bi]);
+                        let pj = Pose::new(end.pos[bj], end.angle[bj]);
+                        let sl = slop(iu, ju);
+                        let Some(ct) = contact(&colliders[iu], &pi, &colliders[ju], &pj, sl, sl)
+                        else {
+                            continue;
+                        };
+                        let pair = (s.inv[iu], s.inv[ju]);
+                        let max = 0.1 * colliders[iu].size.min(colliders[ju].size);
+                        for k in 0..ct.count {
+                            let (ra, rb) = (ct.points[k] - end.pos[bi], ct.points[k] - end.pos[bj]);
+                            let mass = effective_mass(pair, ra, rb, ct.normal);
+                            let push = solver::relaxation(ct.gaps[k], sl, max, mass);
+                            if push == 0.0 {
+                                continue;
+                            }
+                            let p = push * ct.normal;
+                            // r_A += p/M_A, θ_A += (r_A⊥·p)/I_A; the opposite on B.
+                            end.pos[bi] += pair.0.mass * p;
+                            end.pos[bj] -= pair.1.mass * p;
+                            if spins {
+                                end.angle[bi] += pair.0.inertia * perp_dot(ra, p);
+                                end.angle[bj] -= pair.1.inertia * perp_dot(rb, p);
+                            }
+                        }
+                    }
+                }
+            } else {
+                warm.clear();
+            }
+        }
         Ok(changed)
     }
+}
+
+/// Returns true for a collider that nothing moves: 1/M = 1/I = 0.
+fn immovable(inv: &Inverse) -> bool {
+    inv.mass == 0.0 && inv.inertia == 0.0
 }
 
 /// Returns the path restarted at λ with its velocity and spin changed by Δv and Δω,
@@ -389,7 +535,7 @@ fn requery(
     s: &mut Scratch,
     margin: &impl Fn(usize) -> f64,
     tol: &impl Fn(usize, usize) -> f64,
-    both_fixed: &impl Fn(&[Inverse], usize, usize) -> bool,
+    rest: f64,
 ) {
     let bx = swept_box(&colliders[k], &s.paths[k], margin(k));
     s.boxes[k] = bx;
@@ -407,7 +553,7 @@ fn requery(
     }
     for &m in &others {
         let m = m as usize;
-        if both_fixed(&s.inv, k, m) {
+        if immovable(&s.inv[k]) && immovable(&s.inv[m]) {
             continue;
         }
         let (i, j) = (k.min(m), k.max(m));
@@ -419,6 +565,7 @@ fn requery(
             &s.paths[j],
             lambda,
             tol(i, j),
+            rest,
         ) {
             s.heap.push(Reverse(Event {
                 lambda: at.to_bits(),

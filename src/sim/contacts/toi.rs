@@ -68,7 +68,9 @@ impl Path {
 }
 
 /// Returns the first step fraction λ in [from, 1] at which a and b, on their paths, come
-/// within `tol` of touching while approaching; `None` when they do not within the step.
+/// within `tol` of touching while approaching faster than `rest` (the resting speed as
+/// a closing rate per unit of λ: slower arrivals are the resting-contact solver's);
+/// `None` when they do not within the step.
 pub fn time_of_impact(
     a: &Collider,
     pa: &Path,
@@ -76,21 +78,37 @@ pub fn time_of_impact(
     pb: &Path,
     from: f64,
     tol: f64,
+    rest: f64,
 ) -> Option<f64> {
     if let (ColliderShape::Disc { radius: ra }, ColliderShape::Disc { radius: rb }) =
         (&a.shape, &b.shape)
     {
-        return discs(pa, pb, ra + rb, from);
+        return discs(pa, pb, ra + rb, from, rest);
     }
-    advance(a, pa, b, pb, from, tol)
+    // No point of the pair closes faster than |Δr_a - Δr_b| + |Δθ_a|·reach_a +
+    // |Δθ_b|·reach_b per unit λ: when that is no faster than the resting speed, no
+    // impact can happen (a stack at rest, whose contacts are the solver's).
+    let bound = (pa.dr - pb.dr).length() + pa.dangle.abs() * a.reach + pb.dangle.abs() * b.reach;
+    if rest > 0.0 && bound <= rest {
+        return None;
+    }
+    advance(a, pa, b, pb, from, Limits { tol, rest })
+}
+
+/// What counts as an impact: within `tol` of touching, closing faster than `rest`.
+#[derive(Clone, Copy)]
+struct Limits {
+    tol: f64,
+    rest: f64,
 }
 
 /// Two discs: with d(s) = d0 + s·Δd the vector between their centres s after `from`,
 /// they touch where |d(s)|² = R², R the sum of the radii:
 /// |Δd|²·s² + 2·(d0·Δd)·s + (|d0|² - R²) = 0, entering at the smaller root while
 /// d0·Δd < 0 (approaching). Already touching or overlapping (|d0| ≤ R) and approaching
-/// gives s = 0.
-fn discs(pa: &Path, pb: &Path, sum: f64, from: f64) -> Option<f64> {
+/// gives s = 0. An arrival whose closing rate d·Δd/|d| is not faster than `rest` is no
+/// impact.
+fn discs(pa: &Path, pb: &Path, sum: f64, from: f64, rest: f64) -> Option<f64> {
     let ra = pa.r + (from - pa.lambda) * pa.dr;
     let rb = pb.r + (from - pb.lambda) * pb.dr;
     let d0 = ra - rb;
@@ -103,8 +121,10 @@ fn discs(pa: &Path, pb: &Path, sum: f64, from: f64) -> Option<f64> {
     }
     let a = dd.length_squared();
     let c = d0.length_squared() - sum * sum;
+    // The closing rate at the distance |d|: d·Δd/|d|.
+    let fast = |d: DVec2| rest == 0.0 || d.dot(dd) < -rest * d.length();
     if c <= 0.0 {
-        return Some(from);
+        return fast(d0).then_some(from);
     }
     // Roots s = (-b_half ∓ √(b_half² - a·c))/a; the smaller one, written as
     // c/(-b_half + √(b_half² - a·c)) so that no two close numbers are subtracted.
@@ -114,7 +134,7 @@ fn discs(pa: &Path, pb: &Path, sum: f64, from: f64) -> Option<f64> {
     }
     let s = c / (-b_half + disc.sqrt());
     let lambda = from + s;
-    (lambda <= 1.0).then_some(lambda)
+    (lambda <= 1.0 && fast(d0 + s * dd)).then_some(lambda)
 }
 
 /// Conservative advancement for every pair with a polygon (see the module's notes).
@@ -129,7 +149,15 @@ fn discs(pa: &Path, pb: &Path, sum: f64, from: f64) -> Option<f64> {
 /// while turning. After [`ADVANCES_BEFORE_SAMPLING`] advances, or at once when they
 /// touch and part while turning, the search samples the rest of the step instead
 /// ([`sample`]).
-fn advance(a: &Collider, pa: &Path, b: &Collider, pb: &Path, from: f64, tol: f64) -> Option<f64> {
+fn advance(
+    a: &Collider,
+    pa: &Path,
+    b: &Collider,
+    pb: &Path,
+    from: f64,
+    lim: Limits,
+) -> Option<f64> {
+    let tol = lim.tol;
     let spin = pa.dangle.abs() * a.reach + pb.dangle.abs() * b.reach;
     let (aim, accept) = (0.25 * tol, 0.5 * tol);
     let mut lambda = from;
@@ -137,13 +165,13 @@ fn advance(a: &Collider, pa: &Path, b: &Collider, pb: &Path, from: f64, tol: f64
         let (posa, posb) = (pa.pose(lambda), pb.pose(lambda));
         let s = separation(a, &posa, b, &posb)?;
         if s.gap <= accept {
-            if approaching(a, pa, b, pb, lambda, tol) {
+            if approaching(a, pa, b, pb, lambda, lim) {
                 return Some(lambda);
             }
             if spin == 0.0 {
                 return None;
             }
-            return sample(a, pa, b, pb, lambda, tol);
+            return sample(a, pa, b, pb, lambda, lim);
         }
         // No point approaches faster than this along n, per unit λ.
         let closing = (-(pa.dr - pb.dr).dot(s.normal)).max(0.0) + spin;
@@ -155,7 +183,7 @@ fn advance(a: &Collider, pa: &Path, b: &Collider, pb: &Path, from: f64, tol: f64
             return None;
         }
     }
-    sample(a, pa, b, pb, lambda, tol)
+    sample(a, pa, b, pb, lambda, lim)
 }
 
 /// Conservative advances before a search samples instead.
@@ -172,11 +200,12 @@ const MIN_SAMPLES: f64 = 16.0;
 /// is negative. An edge against an edge touches at two points, and a body rocking on
 /// it approaches at one while it parts at the other; the closest points alone would
 /// tell only one of them.
-fn approaching(a: &Collider, pa: &Path, b: &Collider, pb: &Path, lambda: f64, tol: f64) -> bool {
+fn approaching(a: &Collider, pa: &Path, b: &Collider, pb: &Path, lambda: f64, lim: Limits) -> bool {
+    let tol = lim.tol;
     let (posa, posb) = (pa.pose(lambda), pb.pose(lambda));
     let closing = |p: DVec2, n: DVec2| {
         let (ua, ub) = (pa.point_rate(posa.r, p), pb.point_rate(posb.r, p));
-        closes((ua - ub).dot(n), ua.length() + ub.length())
+        closes((ua - ub).dot(n), ua.length() + ub.length(), lim.rest)
     };
     match contact(a, &posa, b, &posb, 2.0 * tol, tol) {
         Some(c) => c.points().iter().any(|p| closing(*p, c.normal)),
@@ -193,8 +222,8 @@ fn approaching(a: &Collider, pa: &Path, b: &Collider, pb: &Path, lambda: f64, to
 /// What this cannot see is a contact that opens and closes again between two samples
 /// by less than the tolerance's worth of motion: two turning bodies that touch and part
 /// again within 0.02 rad of turning. The end-of-step overlap check stands behind it.
-fn sample(a: &Collider, pa: &Path, b: &Collider, pb: &Path, from: f64, tol: f64) -> Option<f64> {
-    let accept = 0.5 * tol;
+fn sample(a: &Collider, pa: &Path, b: &Collider, pb: &Path, from: f64, lim: Limits) -> Option<f64> {
+    let accept = 0.5 * lim.tol;
     let turn = pa.dangle.abs().max(pb.dangle.abs());
     let rest = 1.0 - from;
     let stride = if turn > 0.0 {
@@ -205,7 +234,7 @@ fn sample(a: &Collider, pa: &Path, b: &Collider, pb: &Path, from: f64, tol: f64)
     // In contact, and approaching at one of the contact's points.
     let hit = |lambda: f64| {
         separation(a, &pa.pose(lambda), b, &pb.pose(lambda))
-            .is_some_and(|s| s.gap <= accept && approaching(a, pa, b, pb, lambda, tol))
+            .is_some_and(|s| s.gap <= accept && approaching(a, pa, b, pb, lambda, lim))
     };
     let mut prev = from;
     while prev < 1.0 {
@@ -256,12 +285,12 @@ mod tests {
         // Centres 10 apart closing at 16 per step: they touch when 8 apart, at λ = 0.5.
         let pa = moving(DVec2::new(10.0, 0.0), DVec2::new(-8.0, 0.0));
         let pb = moving(DVec2::ZERO, DVec2::new(8.0, 0.0));
-        assert_eq!(time_of_impact(&a, &pa, &b, &pb, 0.0, 1e-6), Some(0.5));
+        assert_eq!(time_of_impact(&a, &pa, &b, &pb, 0.0, 1e-6, 0.0), Some(0.5));
         // Parting discs never meet; nor do discs that pass at a distance.
         let away = moving(DVec2::new(10.0, 0.0), DVec2::new(8.0, 0.0));
-        assert_eq!(time_of_impact(&a, &away, &b, &pb, 0.0, 1e-6), None);
+        assert_eq!(time_of_impact(&a, &away, &b, &pb, 0.0, 1e-6, 0.0), None);
         let above = moving(DVec2::new(10.0, 3.0), DVec2::new(-8.0, 0.0));
-        assert_eq!(time_of_impact(&a, &above, &b, &pb, 0.0, 1e-6), None);
+        assert_eq!(time_of_impact(&a, &above, &b, &pb, 0.0, 1e-6, 0.0), None);
     }
 
     #[test]
@@ -273,7 +302,7 @@ mod tests {
         let pd = moving(DVec2::ZERO, DVec2::new(10.0, 0.0));
         let pw = moving(DVec2::new(2.005, 0.0), DVec2::ZERO);
         let tol = 1e-6 * 0.01;
-        let lambda = time_of_impact(&disc, &pd, &wall, &pw, 0.0, tol).expect("caught");
+        let lambda = time_of_impact(&disc, &pd, &wall, &pw, 0.0, tol, 0.0).expect("caught");
         let gap = (2.0 - 0.1) - 10.0 * lambda;
         assert!(gap >= 0.0 && gap <= 0.5 * tol, "gap {gap} at λ = {lambda}");
     }
@@ -288,7 +317,7 @@ mod tests {
         pb.dangle = std::f64::consts::FRAC_PI_2;
         let pf = moving(DVec2::new(0.0, -1.0), DVec2::ZERO);
         let tol = 1e-7;
-        let lambda = time_of_impact(&bar, &pb, &floor, &pf, 0.0, tol).expect("caught");
+        let lambda = time_of_impact(&bar, &pb, &floor, &pf, 0.0, tol, 0.0).expect("caught");
         let pose = pb.pose(lambda);
         let c = separation(&bar, &pose, &floor, &pf.pose(lambda)).expect("answers");
         assert!(

@@ -1,0 +1,294 @@
+//! The resting-contact solver: contacts that touch without colliding (a box on a floor,
+//! a tower of boxes, a pile of discs) are solved together at the end of each step, by
+//! sequential impulses with accumulated, clamped impulses, warm started from the last
+//! step, with Coulomb friction; then a few passes push apart what still overlaps by
+//! more than the slop. This is Box2D's (v2.4) contact solver, stage by stage:
+//!
+//! 1. *prepare*: for each contact point, the arms r_A and r_B from the centres of mass,
+//!    the normal and tangent masses 1/K_n and 1/K_t, and the velocity the point may
+//!    close at: 0 when touching, gap/h when apart by `gap` (a speculative contact may
+//!    close the gap in one step, but no more);
+//! 2. *warm start*: each point starts from the impulses it needed last step (matched by
+//!    the features that touch), applied at once;
+//! 3. *solve*, `iterations` times: for each contact, friction at each point,
+//!    λ_t = -v_t/K_t with the accumulated impulse clamped to ±μ·P_n; then the normal
+//!    impulses, λ_n = -(v_n - bias)/K_n with the accumulated P_n ≥ 0 (two points
+//!    together, as a 2 × 2 complementarity problem, like Box2D's block solver);
+//! 4. *store impulses* for the next step's warm start;
+//! 5. *relax positions*: a few passes in which each point deeper than the slop is
+//!    pushed apart by β = 0.2 of its excess, along the normal, shared by inverse mass
+//!    and inertia (non-linear Gauss–Seidel on positions). Positions change, velocities
+//!    do not, so no energy is added.
+//!
+//! There is no restitution here: a contact that approaches faster than the resting
+//! speed is a collision, answered before the solver by the exact impulse of
+//! `response.rs`.
+
+use std::collections::BTreeMap;
+
+use glam::DVec2;
+
+use super::response::Inverse;
+use crate::sim::rigid::{perp_dot, point_velocity};
+
+/// The fraction of a point's overlap beyond the slop that one relaxation pass removes
+/// (Box2D's Baumgarte factor).
+const BAUMGARTE: f64 = 0.2;
+
+/// Relaxation passes over the positions each step.
+const POSITION_PASSES: usize = 3;
+
+/// The sweeps stop early once a whole sweep changes no accumulated impulse by more than
+/// this fraction of the largest normal impulse. A stack's unsolved remainder is what
+/// it creeps by, step after step; warm started, a stack at rest converges in a few
+/// sweeps.
+const CONVERGED: f64 = 1e-9;
+
+/// The impulses a contact point needed, kept for the next step: the normal and the
+/// tangential accumulated impulses, keyed by the two colliders' indices and the point's
+/// features.
+pub type WarmStart = BTreeMap<(u32, u32, u64), (f64, f64)>;
+
+/// One contact point being solved.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Point {
+    /// The arms from the centres of mass to the point.
+    pub ra: DVec2,
+    pub rb: DVec2,
+    /// 1/K along the normal and along the tangent.
+    pub normal_mass: f64,
+    pub tangent_mass: f64,
+    /// The normal velocity the point may not go below: 0, or -gap/h when apart.
+    pub bias: f64,
+    /// The accumulated impulses.
+    pub pn: f64,
+    pub pt: f64,
+    /// The point's features, for the warm start.
+    pub id: u64,
+}
+
+/// One contact between two bodies: one or two points along one normal.
+#[derive(Clone, Copy, Debug)]
+pub struct Manifold {
+    /// The colliders' indices (i < j) and their bodies'.
+    pub i: u32,
+    pub j: u32,
+    pub bi: usize,
+    pub bj: usize,
+    /// The unit normal, from body b (j) to body a (i).
+    pub normal: DVec2,
+    /// The pair's friction coefficient √(μ_a·μ_b).
+    pub friction: f64,
+    pub points: [Point; 2],
+    pub count: usize,
+}
+
+/// The velocities the solver works on, borrowed from the end state.
+pub struct Velocities<'a> {
+    pub vel: &'a mut [DVec2],
+    pub omega: &'a mut [f64],
+    /// Whether the angular velocities are advanced at all (a system that spins).
+    pub spins: bool,
+}
+
+impl Velocities<'_> {
+    fn get(&self, b: usize) -> (DVec2, f64) {
+        (self.vel[b], if self.spins { self.omega[b] } else { 0.0 })
+    }
+
+    /// Applies the impulse p at arms (ra, rb): +p to body a, -p to body b.
+    fn apply(&mut self, m: &Manifold, inv: (Inverse, Inverse), ra: DVec2, rb: DVec2, p: DVec2) {
+        let (ia, ib) = inv;
+        // v_A += p/M_A, ω_A += (r_A⊥·p)/I_A; the opposite on B.
+        self.vel[m.bi] += ia.mass * p;
+        self.vel[m.bj] -= ib.mass * p;
+        if self.spins {
+            self.omega[m.bi] += ia.inertia * perp_dot(ra, p);
+            self.omega[m.bj] -= ib.inertia * perp_dot(rb, p);
+        }
+    }
+
+    /// Returns the relative velocity v_AP - v_BP at the arms (ra, rb).
+    fn relative(&self, m: &Manifold, ra: DVec2, rb: DVec2) -> DVec2 {
+        let (va, wa) = self.get(m.bi);
+        let (vb, wb) = self.get(m.bj);
+        point_velocity(va, wa, ra) - point_velocity(vb, wb, rb)
+    }
+}
+
+/// Returns 1/K for an impulse along the unit vector d at arms (ra, rb):
+/// K = 1/M_A + 1/M_B + (r_A⊥·d)²/I_A + (r_B⊥·d)²/I_B.
+pub fn effective_mass(inv: (Inverse, Inverse), ra: DVec2, rb: DVec2, d: DVec2) -> f64 {
+    let (ia, ib) = inv;
+    let (rad, rbd) = (perp_dot(ra, d), perp_dot(rb, d));
+    let k = ia.mass + ib.mass + rad * rad * ia.inertia + rbd * rbd * ib.inertia;
+    if k > 0.0 {
+        1.0 / k
+    } else {
+        0.0
+    }
+}
+
+/// Runs stages 2 to 4 on the manifolds: warm start, `iterations` sweeps of friction and
+/// normal impulses, and the impulses stored for the next step in `warm` (which then
+/// holds only this step's points).
+pub fn solve(
+    manifolds: &mut [Manifold],
+    inv: &[Inverse],
+    v: &mut Velocities<'_>,
+    iterations: usize,
+    warm: &mut WarmStart,
+) {
+    // 2. Warm start.
+    for m in manifolds.iter_mut() {
+        let pair = (inv[m.i as usize], inv[m.j as usize]);
+        let t = m.normal.perp();
+        for k in 0..m.count {
+            if let Some(&(pn, pt)) = warm.get(&(m.i, m.j, m.points[k].id)) {
+                m.points[k].pn = pn;
+                m.points[k].pt = pt;
+                let p = m.points[k];
+                let copy = *m;
+                v.apply(&copy, pair, p.ra, p.rb, pn * m.normal + pt * t);
+            }
+        }
+    }
+    // 3. Sweeps.
+    for _ in 0..iterations {
+        let mut change: f64 = 0.0;
+        let mut scale: f64 = 0.0;
+        for m in manifolds.iter_mut() {
+            let pair = (inv[m.i as usize], inv[m.j as usize]);
+            change = change.max(solve_friction(m, pair, v));
+            change = change.max(solve_normal(m, pair, v));
+            for p in &m.points[..m.count] {
+                scale = scale.max(p.pn);
+            }
+        }
+        // Converged: no impulse changed by more than CONVERGED of the largest.
+        if change <= CONVERGED * scale {
+            break;
+        }
+    }
+    // 4. Store.
+    warm.clear();
+    for m in manifolds.iter() {
+        for p in &m.points[..m.count] {
+            warm.insert((m.i, m.j, p.id), (p.pn, p.pt));
+        }
+    }
+}
+
+/// Friction at each point: λ_t = -v_t/K_t, the accumulated P_t clamped to ±μ·P_n.
+/// Returns the largest change of an accumulated impulse.
+fn solve_friction(m: &mut Manifold, inv: (Inverse, Inverse), v: &mut Velocities<'_>) -> f64 {
+    let mut change: f64 = 0.0;
+    if m.friction == 0.0 {
+        return change;
+    }
+    let t = m.normal.perp();
+    for k in 0..m.count {
+        let p = m.points[k];
+        let vt = v.relative(m, p.ra, p.rb).dot(t);
+        let lambda = -p.tangent_mass * vt;
+        let limit = m.friction * p.pn;
+        let total = (p.pt + lambda).clamp(-limit, limit);
+        let applied = total - p.pt;
+        m.points[k].pt = total;
+        change = change.max(applied.abs());
+        let copy = *m;
+        v.apply(&copy, inv, p.ra, p.rb, applied * t);
+    }
+    change
+}
+
+/// The normal impulses: one point as λ_n = -(v_n - bias)/K_n with P_n ≥ 0; two points
+/// together, by trying which of them push (Box2D's block solver). Returns the largest
+/// change of an accumulated impulse.
+fn solve_normal(m: &mut Manifold, inv: (Inverse, Inverse), v: &mut Velocities<'_>) -> f64 {
+    let n = m.normal;
+    if m.count == 2 {
+        if let Some(change) = solve_block(m, inv, v) {
+            return change;
+        }
+    }
+    let mut change: f64 = 0.0;
+    for k in 0..m.count {
+        let p = m.points[k];
+        let vn = v.relative(m, p.ra, p.rb).dot(n);
+        let lambda = -p.normal_mass * (vn - p.bias);
+        let total = (p.pn + lambda).max(0.0);
+        let applied = total - p.pn;
+        m.points[k].pn = total;
+        change = change.max(applied.abs());
+        let copy = *m;
+        v.apply(&copy, inv, p.ra, p.rb, applied * n);
+    }
+    change
+}
+
+/// The 2 × 2 normal problem: find P ≥ 0 with w = K·P + b ≥ 0 and P_k·w_k = 0, where
+/// b_k = v_nk - bias_k - (K·P_old)_k, trying both pushing, then each alone, then
+/// neither. Returns the largest change, or `None` when K is too badly conditioned to invert (the points nearly
+/// coincide), for the points to be solved one by one.
+fn solve_block(m: &mut Manifold, inv: (Inverse, Inverse), v: &mut Velocities<'_>) -> Option<f64> {
+    let n = m.normal;
+    let (ia, ib) = inv;
+    let (p1, p2) = (m.points[0], m.points[1]);
+    let (r1a, r1b) = (perp_dot(p1.ra, n), perp_dot(p1.rb, n));
+    let (r2a, r2b) = (perp_dot(p2.ra, n), perp_dot(p2.rb, n));
+    let k11 = ia.mass + ib.mass + ia.inertia * r1a * r1a + ib.inertia * r1b * r1b;
+    let k22 = ia.mass + ib.mass + ia.inertia * r2a * r2a + ib.inertia * r2b * r2b;
+    let k12 = ia.mass + ib.mass + ia.inertia * r1a * r2a + ib.inertia * r1b * r2b;
+    let det = k11 * k22 - k12 * k12;
+    // Box2D's test of the condition number: k11² < 1000·det.
+    if k11 * k11 >= 1000.0 * det {
+        return None;
+    }
+    let (a1, a2) = (p1.pn, p2.pn);
+    let vn1 = v.relative(m, p1.ra, p1.rb).dot(n);
+    let vn2 = v.relative(m, p2.ra, p2.rb).dot(n);
+    // b = v_n - bias - K·a.
+    let b1 = vn1 - p1.bias - (k11 * a1 + k12 * a2);
+    let b2 = vn2 - p2.bias - (k12 * a1 + k22 * a2);
+    let candidates = [
+        // Both push: x = -K⁻¹·b.
+        {
+            let x1 = -(k22 * b1 - k12 * b2) / det;
+            let x2 = -(k11 * b2 - k12 * b1) / det;
+            (x1 >= 0.0 && x2 >= 0.0).then_some((x1, x2))
+        },
+        // Only the first: x1 = -b1/K11, and the second does not close: K12·x1 + b2 ≥ 0.
+        {
+            let x1 = -b1 / k11;
+            (x1 >= 0.0 && k12 * x1 + b2 >= 0.0).then_some((x1, 0.0))
+        },
+        {
+            let x2 = -b2 / k22;
+            (x2 >= 0.0 && k12 * x2 + b1 >= 0.0).then_some((0.0, x2))
+        },
+        // Neither: both already part.
+        (b1 >= 0.0 && b2 >= 0.0).then_some((0.0, 0.0)),
+    ];
+    let (x1, x2) = candidates.into_iter().flatten().next()?;
+    let (d1, d2) = (x1 - a1, x2 - a2);
+    m.points[0].pn = x1;
+    m.points[1].pn = x2;
+    let copy = *m;
+    v.apply(&copy, inv, p1.ra, p1.rb, d1 * n);
+    v.apply(&copy, inv, p2.ra, p2.rb, d2 * n);
+    Some(d1.abs().max(d2.abs()))
+}
+
+/// Returns the position change of one relaxation pass for a point whose gap is `gap`
+/// (negative: overlapping), with slop `slop`, at most `max` at once:
+/// C = clamp(β·(gap + slop), -max, 0), and the impulse -C/K along the normal.
+pub fn relaxation(gap: f64, slop: f64, max: f64, mass: f64) -> f64 {
+    let c = (BAUMGARTE * (gap + slop)).clamp(-max, 0.0);
+    -c * mass
+}
+
+/// Relaxation passes per step.
+pub const fn position_passes() -> usize {
+    POSITION_PASSES
+}
