@@ -15,6 +15,7 @@ pub mod error;
 pub mod figures;
 pub mod history;
 pub mod memory;
+pub mod numbers;
 pub mod output;
 pub mod pipeline;
 pub mod render;

@@ -26,7 +26,7 @@ pub use color::Rgba;
 pub use diagnostic::{Diagnostic, SceneError, Sources};
 pub use frontend::{hash_with_overrides, parse};
 pub use layers::Layers;
-pub use validate::{MAX_BODIES, MAX_FRAMES, MAX_IMAGE_SIDE};
+pub use validate::{MAX_BODIES, MAX_BODY_STEPS, MAX_FRAMES, MAX_IMAGE_SIDE, MAX_STEPS};
 
 use crate::sim::{ForceSpec, IntegratorKind, Simulation, State, System, Tolerances};
 

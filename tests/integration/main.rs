@@ -14,6 +14,7 @@ mod properties;
 mod render_cli;
 mod resume;
 mod rotation;
+mod run_length;
 mod shards;
 mod studies;
 mod util;

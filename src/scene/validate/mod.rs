@@ -9,6 +9,7 @@
 mod bodies;
 mod forces;
 mod names;
+mod run_length;
 mod swarms;
 mod timing;
 mod values;
@@ -28,6 +29,7 @@ pub const MAX_IMAGE_SIDE: i64 = 16384;
 pub const MAX_FRAMES: u64 = 1_000_000;
 /// The largest number of bodies a scene may declare, swarms included.
 pub const MAX_BODIES: u64 = 10_000_000;
+pub use run_length::{MAX_BODY_STEPS, MAX_STEPS};
 
 /// Checks every rule on a raw scene that fits the schema. Returns the scene when every
 /// rule holds, and every problem found.
@@ -64,8 +66,9 @@ impl Validator {
         let simulation = self.simulation(raw.simulation.as_ref(), fps);
         let view = render_raw.and_then(|r| self.view(r));
         let bodies = self.bodies(&raw.body, view);
-        let render =
-            render_raw.and_then(|r| self.render(r.get_ref(), simulation.as_ref(), fps, view));
+        let timing = run_length::TimingSpans::new(raw.simulation.as_ref(), render_raw);
+        let render = render_raw
+            .and_then(|r| self.render(r.get_ref(), simulation.as_ref(), fps, view, &timing));
         // Forces are checked against every body's name, valid or not, so that one bad
         // body does not hide the problems of the forces.
         let body_names: Vec<String> = raw
@@ -110,8 +113,18 @@ impl Validator {
         if let (Some(sim), Some(bodies), Some(forces)) = (&simulation, &bodies, &forces) {
             self.exact_exists(raw.simulation.as_ref(), sim, bodies, forces);
         }
+        let fits = match (&simulation, &render, &bodies) {
+            (Some(sim), Some(r), Some(bodies)) => self.run_fits(
+                sim,
+                r.fps,
+                (r.steps_per_frame, r.frame_count),
+                bodies.len(),
+                &timing,
+            ),
+            _ => Some(()),
+        };
         let hash = hex(&Sha256::digest(text.as_bytes()));
-        let (mut bodies, forces) = (bodies?, forces?);
+        let (mut bodies, forces, ()) = (bodies?, forces?, fits?);
         super::mark_turning(&mut bodies, &forces);
         self.turning_bodies_have_inertia(&raw.body, &bodies)?;
         Some(Scene {

@@ -7,6 +7,7 @@ use toml::Spanned;
 use super::bodies::turned;
 use super::names::SwarmName;
 use super::{Validator, MAX_BODIES};
+use crate::numbers::Readable;
 use crate::scene::raw::{RawBody, RawRange, RawScalarRange, RawSwarm};
 use crate::scene::swarm::{member_spin, member_state, split_member_name, Uniform1, Uniform2};
 use crate::scene::MAX_SHAPE_PIXELS;
@@ -251,7 +252,7 @@ impl Validator {
         }
         self.error(
             Diagnostic::at(raw.span(), format!("`{key}` has min above max"))
-                .label(format!("min = {min}, max = {max}"))
+                .label(format!("min = {}, max = {}", Readable(min), Readable(max)))
                 .hint("give min ≤ max"),
         );
         None
