@@ -14,6 +14,7 @@ pub mod diff;
 pub mod error;
 pub mod figures;
 pub mod history;
+pub mod interrupt;
 pub mod memory;
 pub mod numbers;
 pub mod output;

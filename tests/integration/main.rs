@@ -9,6 +9,7 @@ mod docs;
 mod figures;
 mod golden;
 mod integrators;
+mod interrupt;
 mod perf;
 mod properties;
 mod render_cli;
