@@ -13,6 +13,7 @@ pub mod compare;
 pub mod diff;
 pub mod error;
 pub mod figures;
+pub mod fuzzing;
 pub mod history;
 pub mod interrupt;
 pub mod memory;

@@ -24,7 +24,7 @@ use glam::DVec2;
 
 pub use color::Rgba;
 pub use diagnostic::{Diagnostic, SceneError, Sources};
-pub use frontend::{hash_with_overrides, parse};
+pub use frontend::{hash_with_overrides, parse, parse_with_overrides};
 pub use layers::Layers;
 pub use validate::{MAX_BODIES, MAX_BODY_STEPS, MAX_FRAMES, MAX_IMAGE_SIDE, MAX_STEPS};
 

@@ -104,6 +104,7 @@ fn each_rigid_body_key_is_checked_where_it_is_written() {
         ("at on gravity", force("kind = \"gravity\"\nat = [0.0, 0.0]"), "`at` does not apply to a `gravity` force", "16:6"),
         ("swarm angles backwards", swarm("angle = { min = 1.0, max = 0.5 }"), "`angle` has min above max", "22:9"),
         ("swarm spin not finite", swarm("angular_velocity = { min = nan, max = 0.5 }"), "`angular_velocity.min` must be a finite number", "22:28"),
+        ("polygon crossing itself", broken("mass = 1.0", "mass = 1.0\nshape = { polygon = { points = [[5, 1], [-2, -4], [2, -5], [1, 1]] } }"), "the polygon of body `puck` crosses itself", "10:1"),
         ("a point turned", broken("mass = 1.0", "points = [{ offset = [0.5, 0.5], mass = 2.0 }]\nangular_velocity = 1.0"), "body `puck` is turned but has no moment of inertia", "10:1"),
     ];
     for (case, text, message, location) in cases {

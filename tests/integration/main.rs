@@ -10,6 +10,7 @@ mod figures;
 mod golden;
 mod integrators;
 mod interrupt;
+mod mutations;
 mod perf;
 mod properties;
 mod render_cli;

@@ -164,3 +164,20 @@ fn check_prints_every_number_readably() {
         .unwrap_or(0);
     assert!(longest <= 17, "a run of {longest} digits in:\n{text}");
 }
+
+#[test]
+fn a_default_step_that_is_not_a_number_is_refused_at_fps() {
+    // Found by the mutated-scene tests: without `dt`, dt = 1/(10·fps) is infinite for
+    // fps = 5e-324 and zero for fps = 1e308.
+    let no_dt = GOOD.replacen("dt = 0.01\n", "", 1);
+    for (fps, dt) in [("5e-324", "inf"), ("1e308", "0")] {
+        let err = refused(&no_dt.replacen("fps = 25", &format!("fps = {fps}"), 1), &[]);
+        assert!(
+            err.contains(&format!(
+                "with `dt` left out, the step 1/(10·fps) = {dt} is not a finite number > 0"
+            )),
+            "{err}"
+        );
+        assert!(err.contains("bad.toml:7:7"), "located at fps:\n{err}");
+    }
+}

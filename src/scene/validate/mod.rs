@@ -63,10 +63,10 @@ impl Validator {
         let fps = render_raw
             .and_then(|r| r.get_ref().fps.as_ref())
             .map_or(Some(30.0), |f| self.positive(f, "fps"));
-        let simulation = self.simulation(raw.simulation.as_ref(), fps);
+        let timing = run_length::TimingSpans::new(raw.simulation.as_ref(), render_raw);
+        let simulation = self.simulation(raw.simulation.as_ref(), fps, &timing);
         let view = render_raw.and_then(|r| self.view(r));
         let bodies = self.bodies(&raw.body, view);
-        let timing = run_length::TimingSpans::new(raw.simulation.as_ref(), render_raw);
         let render = render_raw
             .and_then(|r| self.render(r.get_ref(), simulation.as_ref(), fps, view, &timing));
         // Forces are checked against every body's name, valid or not, so that one bad

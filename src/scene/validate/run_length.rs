@@ -66,6 +66,28 @@ impl TimingSpans {
 }
 
 impl Validator {
+    /// Returns the step when `dt` is left out, 1/(10·fps): ten steps a frame. An `fps`
+    /// so small or so large that this is not a finite positive number (fps = 5e-324
+    /// makes it infinite, fps = 1e308 zero) is reported at `fps`.
+    pub(super) fn default_dt(&mut self, fps: f64, spans: &TimingSpans) -> Option<f64> {
+        let dt = 1.0 / (10.0 * fps);
+        if dt.is_finite() && dt > 0.0 {
+            return Some(dt);
+        }
+        let message = format!(
+            "with `dt` left out, the step 1/(10·fps) = {} is not a finite number > 0",
+            Readable(dt)
+        );
+        let d = spans.diagnostic(
+            message,
+            &[(spans.fps.as_ref(), format!("fps = {}", Readable(fps)))],
+        );
+        self.error(
+            d.hint("write `dt` in [simulation], or choose an `fps` between 1e-300 and 1e300"),
+        );
+        None
+    }
+
     /// Returns the steps between two frames, round(1/(fps·dt)), when it can be counted
     /// exactly; reports it at `dt` otherwise.
     pub(super) fn steps_per_frame(

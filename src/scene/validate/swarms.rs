@@ -110,8 +110,15 @@ impl Validator {
                 first += count;
                 continue;
             };
+            // Found by the mutated-scene tests: a swarm's shape was not held to the
+            // rules a body's is (a finite moment of inertia, not negative).
+            let Some(inertia) = self.shape_inertia(rs.span(), &format!("{name}0"), &shape, mass)
+            else {
+                ok = false;
+                first += count;
+                continue;
+            };
             members.reserve(count as usize);
-            let inertia = shape.inertia(mass);
             for i in 0..count {
                 let (r, v) = member_state(seed, i, position, velocity);
                 // A swarm that gives no angle or angular velocity draws none: its

@@ -20,12 +20,14 @@ impl Validator {
         &mut self,
         raw: Option<&Spanned<RawSimulation>>,
         fps: Option<f64>,
+        spans: &TimingSpans,
     ) -> Option<SimulationSettings> {
         let Some(raw) = raw else {
             // Without a [simulation] table: explicit Euler, 5 s, ten steps a frame.
-            return fps.map(|fps| SimulationSettings {
+            let dt = self.default_dt(fps?, spans)?;
+            return Some(SimulationSettings {
                 integrator: IntegratorKind::Euler,
-                dt: 1.0 / (10.0 * fps),
+                dt,
                 duration: 5.0,
                 tolerances: Tolerances::default(),
                 compare: Vec::new(),
@@ -51,7 +53,7 @@ impl Validator {
         };
         let dt = match (&s.dt, fps) {
             (Some(dt), _) => self.positive(dt, "dt"),
-            (None, Some(fps)) => Some(1.0 / (10.0 * fps)),
+            (None, Some(fps)) => self.default_dt(fps, spans),
             (None, None) => None,
         };
         if let (Some(dt), Some(fps), Some(span)) = (dt, fps, s.dt.as_ref().map(|d| d.span())) {
