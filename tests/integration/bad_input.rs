@@ -70,6 +70,7 @@ fn each_class_of_bad_input_is_located_and_writes_nothing() {
         ("mass and points", broken("mass = 1.0", "mass = 1.0\npoints = [{ offset = [0, 0], mass = 1 }]"), "has both `mass` and `points`", "13:10"),
         ("zero width", broken("width = 64", "width = 0"), "`width` must be from 1 to 16384", "6:9"),
         ("huge height", broken("height = 48", "height = 16385"), "`height` must be from 1 to 16384", "7:10"),
+        ("view narrower than a normal number", broken("min = [-1.0, -1.0], max = [1.0, 1.0]", "min = [0.0, -1.0], max = [5e-324, 1.0]"), "the view is too small to draw", "9:8"),
         ("too many frames", broken("duration = 1.0", "duration = 40001.0"), "more than the limit of 1000000", "4:12"),
         ("dt off the frames", broken("dt = 0.01", "dt = 0.015"), "nearest valid values are dt = 0.02 (2 steps a frame) and dt = 0.013333333333333334 (3 steps a frame)", "3:6"),
         ("spring to itself", broken("kind = \"drag\"\nk = 1.0", "kind = \"spring\"\na = \"puck\"\nb = \"puck\"\nstiffness = 1.0"), "joins a body to itself", "14:1"),

@@ -384,6 +384,7 @@ fn mutated_scenes_are_refused_or_drawn_and_never_leave_frames_behind_an_error() 
     let seeds = seeds();
     let started = std::time::Instant::now();
     let tally = std::sync::Mutex::new(std::collections::BTreeMap::<&str, u32>::new());
+    let slowest = std::sync::Mutex::new((0.0, String::new(), Vec::new()));
     let mut runner = TestRunner::new(Config {
         cases,
         failure_persistence: None,
@@ -392,6 +393,7 @@ fn mutated_scenes_are_refused_or_drawn_and_never_leave_frames_behind_an_error() 
     let strategy = (0..seeds.len(), prop::collection::vec(mutation(), 1..4));
     let result = runner.run(&strategy, |(seed, mutations)| {
         let text = mutate(&seeds[seed].1, &mutations);
+        let case_started = std::time::Instant::now();
         let kind = holds(&text).map_err(|e| {
             TestCaseError::fail(format!(
                 "{e}\nseed {}, mutated to:\n{text}",
@@ -403,13 +405,23 @@ fn mutated_scenes_are_refused_or_drawn_and_never_leave_frames_behind_an_error() 
             .unwrap_or_else(|p| p.into_inner())
             .entry(kind)
             .or_default() += 1;
+        // The slowest case is reported, not asserted on: a hang would show there.
+        let took = case_started.elapsed().as_secs_f64();
+        let mut slow = slowest.lock().unwrap_or_else(|p| p.into_inner());
+        if took > slow.0 {
+            *slow = (took, seeds[seed].0.display().to_string(), mutations.clone());
+        }
         Ok(())
     });
     // A long run reports its size and what became of the cases, for the record.
+    let slowest = slowest.into_inner().unwrap_or_else(|p| p.into_inner());
     eprintln!(
-        "mutated scenes: {cases} cases in {:.1} s: {:?}",
+        "mutated scenes: {cases} cases in {:.1} s: {:?}; slowest {:.2} s: {} {:?}",
         started.elapsed().as_secs_f64(),
-        tally.into_inner().unwrap_or_else(|p| p.into_inner())
+        tally.into_inner().unwrap_or_else(|p| p.into_inner()),
+        slowest.0,
+        slowest.1,
+        slowest.2
     );
     if let Err(e) = result {
         panic!("{e}");

@@ -262,8 +262,23 @@ impl Validator {
         let v = view.get_ref();
         let min = self.vec2(&v.min, "view.min")?;
         let max = self.vec2(&v.max, "view.max")?;
-        if min.x < max.x && min.y < max.y {
+        let extent = max - min;
+        // A side below the smallest normal f64 (found by the mutated-scene tests:
+        // max = [5e-324, 9]) has no room for ticks or pixels: their steps underflow.
+        if extent.x >= f64::MIN_POSITIVE && extent.y >= f64::MIN_POSITIVE {
             return Some(View { min, max });
+        }
+        if min.x < max.x && min.y < max.y {
+            self.error(
+                Diagnostic::at(view.span(), "the view is too small to draw")
+                    .label(format!(
+                        "{} × {}",
+                        Readable(extent.x),
+                        Readable(extent.y)
+                    ))
+                    .hint("each side must be at least 2.2e-308 (the smallest normal number); use other units"),
+            );
+            return None;
         }
         self.error(
             Diagnostic::at(view.span(), "the view is empty")
