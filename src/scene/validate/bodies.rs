@@ -234,7 +234,11 @@ impl Validator {
                     points_raw.span(),
                     "a polygon needs at least 3 points enclosing some area",
                 )
-                .label(format!("{} points, area {}", points.len(), area.abs())),
+                .label(format!(
+                    "{} points, area {}",
+                    points.len(),
+                    Readable(area.abs())
+                )),
             );
             return None;
         }
