@@ -42,8 +42,8 @@ pub enum Outcome {
     },
 }
 
-/// Splits the trailing `#set KEY=VALUE` lines off a scene's text: the text (those
-/// lines stay in it, as comments) and the overrides, in order.
+/// Returns the `--set` arguments of a scene's trailing `#set KEY=VALUE` lines, in
+/// order; the lines stay in the text, where TOML reads them as comments.
 pub fn split_overrides(text: &str) -> Vec<String> {
     text.lines()
         .rev()
