@@ -3,6 +3,7 @@
 //! when, and what to change. The render pipeline, checkpoints, export, figures and
 //! benchmarks all report a blow-up through [`blow_up_message`]; none of them owns it.
 
+use crate::numbers::Readable;
 use crate::scene::Scene;
 use crate::sim::{BlowUp, Simulation, MAX_ADAPTIVE_STEPS_PER_ADVANCE, STIFF};
 use crate::study::stability::stable_step_hint;
@@ -70,9 +71,9 @@ pub fn blow_up_message(scene: &Scene, b: &BlowUp) -> String {
         return format!(
             "the simulation stopped: {integrator} took {} steps without reaching the next frame (t = {}); the scene is too stiff for an explicit adaptive method at rtol = {}, atol = {}\nhint: loosen the tolerances, or use a fixed-step method with a dt that linear stability allows",
             MAX_ADAPTIVE_STEPS_PER_ADVANCE,
-            b.t,
-            scene.simulation.tolerances.rtol,
-            scene.simulation.tolerances.atol
+            Readable(b.t),
+            Readable(scene.simulation.tolerances.rtol),
+            Readable(scene.simulation.tolerances.atol)
         );
     }
     if let Some(o) = b.overlap {
@@ -90,11 +91,18 @@ pub fn blow_up_message(scene: &Scene, b: &BlowUp) -> String {
     if b.quantity == ENERGY {
         return format!(
             "the simulation blew up: its energy grew past {ENERGY_GROWTH_LIMIT} times its starting scale by step {} (t = {}) although nothing in the scene adds energy; body `{}` moves fastest; integrator {integrator}, dt = {}\nhint: a smaller dt, or a more stable integrator (symplectic-euler or verlet conserve a spring's energy){theory}",
-            b.step, b.t, body.name, scene.simulation.dt
+            b.step,
+            Readable(b.t),
+            body.name,
+            Readable(scene.simulation.dt)
         );
     }
     format!(
         "the simulation blew up: the {} of body `{}` became non-finite at step {} (t = {}) with integrator {integrator} and dt = {}\nhint: a smaller dt, or a more stable integrator, keeps it finite{theory}",
-        b.quantity, body.name, b.step, b.t, scene.simulation.dt
+        b.quantity,
+        body.name,
+        b.step,
+        Readable(b.t),
+        Readable(scene.simulation.dt)
     )
 }

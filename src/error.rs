@@ -4,13 +4,15 @@ use std::path::PathBuf;
 
 use crate::scene::{LoadError, SceneError};
 
-/// Exit codes, documented in the README: 0 success, 1 runtime failure, 2 bad input or
-/// usage, 3 numerical blow-up.
+/// Exit codes, documented in docs/cli.md: 0 success, 1 runtime failure, 2 bad input or
+/// usage, 3 numerical blow-up, 130 stopped by Ctrl-C.
 pub mod exit {
     pub const SUCCESS: u8 = 0;
     pub const FAILURE: u8 = 1;
     pub const BAD_INPUT: u8 = 2;
     pub const BLOW_UP: u8 = 3;
+    /// Set by [`crate::interrupt`]'s handler, which exits itself.
+    pub const INTERRUPTED: u8 = crate::interrupt::EXIT_CODE;
 }
 
 /// Everything that can stop a command.

@@ -224,12 +224,23 @@ fn render_once(
         }
         None => std::env::temp_dir(),
     };
-    let folder = tempfile::Builder::new()
-        .prefix("physframes-bench-")
-        .tempdir_in(&parent)
-        .map_err(|e| Error::io("cannot create a folder in", &parent, e))?;
+    // Listed while it exists, so that Ctrl-C removes it too.
+    let (folder, listed) = crate::interrupt::create_listed(
+        || {
+            tempfile::Builder::new()
+                .prefix("physframes-bench-")
+                .tempdir_in(&parent)
+        },
+        |d| d.path(),
+    )
+    .map_err(|e| Error::io("cannot create a folder in", &parent, e))?;
+    let folder = BenchFolder {
+        dir: folder,
+        _listed: listed,
+    };
+    let folder_path = folder.dir.path();
     let options = RenderOptions {
-        out_dir: folder.path().to_path_buf(),
+        out_dir: folder_path.to_path_buf(),
         frames,
         threads,
         compression,
@@ -238,7 +249,7 @@ fn render_once(
     let report = pipeline::render(scene, &options)?;
     let m = &report.manifest;
     let n = m.frames_written.max(1) as f64;
-    let bytes = frame_bytes(folder.path())?;
+    let bytes = frame_bytes(folder_path)?;
     let t = &m.timings;
     let run = RenderRun {
         frames: m.frames_written,
@@ -251,18 +262,25 @@ fn render_once(
         ],
         bytes_per_frame: bytes as f64 / n,
     };
+    let BenchFolder { dir, _listed } = folder;
     match keep_as {
-        Some(kept) => keep(folder, kept)?,
+        Some(kept) => keep(dir, kept)?,
         // Removing the folder now, rather than leaving it to `Drop`, reports a failure:
         // a folder left behind would again fill DIR run by run.
         None => {
-            let path = folder.path().to_path_buf();
-            folder
-                .close()
+            let path = dir.path().to_path_buf();
+            dir.close()
                 .map_err(|e| Error::io("cannot remove", path, e))?;
         }
     }
     Ok(run)
+}
+
+/// A run's temporary folder, listed with [`crate::interrupt`] while it exists.
+struct BenchFolder {
+    // Dropped first: the folder is removed before it leaves the list.
+    dir: tempfile::TempDir,
+    _listed: crate::interrupt::Listed,
 }
 
 /// Moves a run's folder of frames to `kept`, replacing the folder an earlier bench kept

@@ -4,6 +4,7 @@ use clap::Args;
 
 use super::{SceneArgs, Verbosity};
 use crate::error::Result;
+use crate::numbers::Readable as R;
 use crate::scene::Shape;
 
 #[derive(Debug, Args)]
@@ -36,15 +37,15 @@ pub fn run(args: CheckArgs, verbosity: Verbosity) -> Result<()> {
         out,
         "  simulation: {} with dt = {}, duration {} s, {} steps",
         s.integrator,
-        s.dt,
-        s.duration,
+        R(s.dt),
+        R(s.duration),
         scene.total_steps()
     );
     outln!(
         out,
         "  frames: {} at {} fps ({} steps a frame), {}×{} pixels",
         r.frame_count,
-        r.fps,
+        R(r.fps),
         r.steps_per_frame,
         r.width,
         r.height
@@ -54,8 +55,8 @@ pub fn run(args: CheckArgs, verbosity: Verbosity) -> Result<()> {
     const LISTED: usize = 20;
     for b in scene.bodies.iter().take(LISTED) {
         let shape = match &b.shape {
-            Shape::Circle { radius } => format!("circle r = {radius}"),
-            Shape::Box { width, height } => format!("box {width} × {height}"),
+            Shape::Circle { radius } => format!("circle r = {}", R(*radius)),
+            Shape::Box { width, height } => format!("box {} × {}", R(*width), R(*height)),
             Shape::Polygon { points } => format!("polygon of {} points", points.len()),
             Shape::Points { points } => format!("{} point masses", points.len()),
         };
@@ -64,9 +65,9 @@ pub fn run(args: CheckArgs, verbosity: Verbosity) -> Result<()> {
         let spin = if b.turns || b.angle != 0.0 {
             format!(
                 ", angle {} rad, angular velocity {} rad/s, I = {}{}",
-                b.angle,
-                b.angular_velocity,
-                b.inertia,
+                R(b.angle),
+                R(b.angular_velocity),
+                R(b.inertia),
                 if b.turns { ", turns" } else { "" }
             )
         } else {
@@ -91,11 +92,11 @@ pub fn run(args: CheckArgs, verbosity: Verbosity) -> Result<()> {
             out,
             "    {}: mass {}, centre of mass ({}, {}), velocity ({}, {}), {shape}{spin}",
             b.name,
-            b.mass,
-            b.position.x,
-            b.position.y,
-            b.velocity.x,
-            b.velocity.y
+            R(b.mass),
+            R(b.position.x),
+            R(b.position.y),
+            R(b.velocity.x),
+            R(b.velocity.y)
         );
     }
     if scene.bodies.len() > LISTED {
@@ -108,7 +109,7 @@ pub fn run(args: CheckArgs, verbosity: Verbosity) -> Result<()> {
             c.bodies.len(),
             c.restitution,
             match c.tolerance {
-                Some(t) => format!("{t}"),
+                Some(t) => format!("{}", crate::numbers::Readable(t)),
                 None => format!(
                     "{:e} of the smaller body's size",
                     crate::sim::contacts::DEFAULT_TOLERANCE

@@ -64,9 +64,8 @@ pub fn run(args: ExportArgs) -> Result<()> {
             let tmp = out
                 .into_inner()
                 .map_err(|e| Error::io("cannot write", path.clone(), e.into_error()))?;
-            tmp.persist(path).map_err(|e| {
-                Error::io("cannot move the finished file to", path.clone(), e.error)
-            })?;
+            tmp.persist(path)
+                .map_err(|e| Error::io("cannot move the finished file to", path.clone(), e))?;
             b
         }
     };

@@ -162,6 +162,9 @@ fn say(text: &str) -> Result<()> {
 
 /// Runs the command line and returns the process's exit code.
 pub fn main() -> ExitCode {
+    // Ctrl-C stops any command at once, removing the temporary file of a write in
+    // progress (exit code 130).
+    crate::interrupt::install();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => {

@@ -40,13 +40,13 @@ pub fn run(args: NewArgs, verbosity: Verbosity) -> Result<()> {
         .map_err(|e| Error::io("cannot write", tmp.path().to_path_buf(), e))?;
     match tmp.persist_noclobber(&path) {
         Ok(_) => {}
-        Err(e) if e.error.kind() == std::io::ErrorKind::AlreadyExists => {
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
             return Err(Error::Usage(format!(
                 "{} already exists; nothing was written\nhint: choose another name, or remove the file first",
                 path.display()
             )));
         }
-        Err(e) => return Err(Error::io("cannot write", path, e.error)),
+        Err(e) => return Err(Error::io("cannot write", path, e)),
     }
     if !verbosity.quiet {
         super::say(&format!(

@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use clap::{Args, Subcommand};
 
 use crate::error::{Error, Result};
+use crate::numbers::{about, Readable};
 use crate::output;
 use crate::sim::IntegratorKind;
 use crate::study::energy::{self, EnergyOptions};
@@ -345,17 +346,18 @@ fn run_energy(args: EnergyArgs, verbosity: Verbosity) -> Result<()> {
     if !(args.dt.is_finite() && args.dt > 0.0) {
         return Err(Error::Usage(format!(
             "--dt {} must be a finite number of seconds > 0",
-            args.dt
+            Readable(args.dt)
         )));
     }
     let steps = in_range("--steps", args.steps, 1..=1_000_000_000)?;
+    let reference = kind.problem();
+    energy_run_fits(steps, args.dt, integrators.len(), reference.initial().len())?;
     let options = EnergyOptions {
         dt: args.dt,
         steps,
         ..EnergyOptions::default()
     };
-    let study =
-        energy::energy_study(&kind.problem(), &integrators, &options).map_err(Error::Usage)?;
+    let study = energy::energy_study(&reference, &integrators, &options).map_err(Error::Usage)?;
     let dir = args
         .out
         .unwrap_or_else(|| default_out("energy", kind.name()));
@@ -378,6 +380,31 @@ fn run_energy(args: EnergyArgs, verbosity: Verbosity) -> Result<()> {
     report(verbosity, &text)
 }
 
+/// Checks, before anything is run or written, that an energy study can finish and be
+/// drawn: it ends at t = N·h, which must be a finite normal number (a subnormal time
+/// has too few bits to place N steps on, and an infinite one no axis), and its work,
+/// steps × integrators × bodies, is within the limit scenes have
+/// ([`crate::scene::MAX_BODY_STEPS`]).
+fn energy_run_fits(steps: u64, dt: f64, integrators: usize, bodies: usize) -> Result<()> {
+    let t_end = steps as f64 * dt;
+    if !(t_end.is_finite() && t_end >= f64::MIN_POSITIVE) {
+        return Err(Error::Usage(format!(
+            "--steps {steps} × --dt {} ends at t = {}, which the study cannot reach and plot; choose a --dt between {} and {}",
+            Readable(dt),
+            Readable(t_end),
+            about(f64::MIN_POSITIVE / steps as f64),
+            about(f64::MAX / steps as f64)
+        )));
+    }
+    let work = u128::from(steps) * integrators as u128 * bodies.max(1) as u128;
+    if work > u128::from(crate::scene::MAX_BODY_STEPS) {
+        return Err(Error::Usage(format!(
+            "--steps {steps} for {integrators} integrators on {bodies} bodies is {work} body-steps, more than the limit of 10^12; lower --steps or list fewer integrators"
+        )));
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -397,5 +424,16 @@ mod tests {
         );
         assert!(parse(&["rk5"]).is_err());
         assert!(parse(&["euler", ""]).is_err());
+    }
+
+    #[test]
+    fn an_energy_study_must_end_at_a_finite_normal_time_within_the_work_limit() {
+        assert!(energy_run_fits(10_000, 0.01, 7, 2).is_ok());
+        assert!(energy_run_fits(1_000_000_000, 1e-300, 7, 2).is_ok());
+        // 10 × 1e308 overflows; 1000 × 5e-324 is subnormal.
+        assert!(energy_run_fits(10, 1e308, 1, 1).is_err());
+        assert!(energy_run_fits(1000, 5e-324, 1, 1).is_err());
+        assert!(energy_run_fits(1_000_000_000, 0.01, 7, 142).is_ok());
+        assert!(energy_run_fits(1_000_000_000, 0.01, 7, 143).is_err());
     }
 }

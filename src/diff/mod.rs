@@ -355,7 +355,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), DiffError> {
         _ => Path::new("."),
     };
     std::fs::create_dir_all(dir).map_err(|e| write_error(path, e))?;
-    let file = tempfile::NamedTempFile::new_in(dir).map_err(|e| write_error(path, e))?;
+    let file = crate::output::TempFile::new_in(dir).map_err(|e| write_error(path, e))?;
     let mut writer = BufWriter::new(file);
     writer.write_all(bytes).map_err(|e| write_error(path, e))?;
     let file = writer
@@ -364,7 +364,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), DiffError> {
     file.as_file()
         .sync_all()
         .map_err(|e| write_error(path, e))?;
-    file.persist(path).map_err(|e| write_error(path, e.error))?;
+    file.persist(path).map_err(|e| write_error(path, e))?;
     Ok(())
 }
 

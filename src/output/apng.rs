@@ -54,7 +54,7 @@ pub fn write_apng(dir: &Path, frames: Range<u64>, fps: f64, out: &Path) -> Resul
         }
     }
     tmp.persist(out)
-        .map_err(|e| Error::io("cannot move the finished file to", out, e.error))?;
+        .map_err(|e| Error::io("cannot move the finished file to", out, e))?;
     Ok(())
 }
 

@@ -17,7 +17,7 @@ pub const EVENTS_HEADER: &str = "t,a,b,px,py,nx,ny,vn_before,vn_after,impulse,jt
 /// so that a reader never sees half a file.
 pub struct EventLog {
     path: PathBuf,
-    out: BufWriter<tempfile::NamedTempFile>,
+    out: BufWriter<super::TempFile>,
 }
 
 impl EventLog {
@@ -51,7 +51,7 @@ impl EventLog {
             .into_inner()
             .map_err(|e| Error::io("cannot write", &path, e.into_error()))?;
         tmp.persist(&path)
-            .map_err(|e| Error::io("cannot move the finished file to", &path, e.error))?;
+            .map_err(|e| Error::io("cannot move the finished file to", &path, e))?;
         Ok(())
     }
 }

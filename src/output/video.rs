@@ -108,6 +108,6 @@ pub fn write_mp4(
         )));
     }
     tmp.persist(out)
-        .map_err(|e| Error::io("cannot move the finished file to", out, e.error))?;
+        .map_err(|e| Error::io("cannot move the finished file to", out, e))?;
     Ok(())
 }

@@ -19,6 +19,9 @@ pub struct Diagnostic {
     pub label: String,
     /// What to change, when there is a clear fix.
     pub hint: Option<String>,
+    /// Other values that take part in the problem, each with its label (the frame
+    /// count is `duration` and `fps` together, for example).
+    pub also: Vec<(Range<usize>, String)>,
 }
 
 impl Diagnostic {
@@ -29,6 +32,7 @@ impl Diagnostic {
             span: Some(span),
             label: String::new(),
             hint: None,
+            also: Vec::new(),
         }
     }
 
@@ -39,6 +43,7 @@ impl Diagnostic {
             span: None,
             label: String::new(),
             hint: None,
+            also: Vec::new(),
         }
     }
 
@@ -51,6 +56,12 @@ impl Diagnostic {
     /// Adds a hint saying what to change.
     pub fn hint(mut self, hint: impl Into<String>) -> Self {
         self.hint = Some(hint.into());
+        self
+    }
+
+    /// Points at another value that takes part in the problem, with its own label.
+    pub fn also(mut self, span: Range<usize>, label: impl Into<String>) -> Self {
+        self.also.push((span, label.into()));
         self
     }
 }
@@ -153,7 +164,8 @@ impl SceneError {
         let mut out = String::new();
         for d in &self.diagnostics {
             let mut report = Report::error().with_message(&d.message);
-            if let Some(span) = &d.span {
+            // Each span names its text (the file or an override) and a place in it.
+            let place = |span: &Range<usize>| {
                 let (source, local) = sources.locate(span);
                 let (id, text) = match source {
                     Some(i) => (override_ids[i], self.overrides[i].as_str()),
@@ -161,10 +173,18 @@ impl SceneError {
                 };
                 let start = floor_char_boundary(text, local.start);
                 let end = floor_char_boundary(text, local.end.max(local.start));
-                report = report.with_labels(vec![
-                    Label::primary(id, start..end).with_message(d.label.clone())
-                ]);
+                (id, start..end)
+            };
+            let mut labels = Vec::new();
+            if let Some(span) = &d.span {
+                let (id, range) = place(span);
+                labels.push(Label::primary(id, range).with_message(d.label.clone()));
             }
+            for (span, label) in &d.also {
+                let (id, range) = place(span);
+                labels.push(Label::secondary(id, range).with_message(label.clone()));
+            }
+            report = report.with_labels(labels);
             if let Some(hint) = &d.hint {
                 report = report.with_notes(vec![format!("hint: {hint}")]);
             }

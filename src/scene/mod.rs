@@ -24,11 +24,11 @@ use glam::DVec2;
 
 pub use color::Rgba;
 pub use diagnostic::{Diagnostic, SceneError, Sources};
-pub use frontend::{hash_with_overrides, parse};
+pub use frontend::{hash_with_overrides, parse, parse_with_overrides};
 pub use layers::Layers;
-pub use validate::{MAX_BODIES, MAX_FRAMES, MAX_IMAGE_SIDE};
+pub use validate::{MAX_BODIES, MAX_BODY_STEPS, MAX_FRAMES, MAX_IMAGE_SIDE, MAX_STEPS};
 
-use crate::sim::contacts::Collider;
+use crate::sim::contacts::{Collider, PolygonProblem};
 use crate::sim::{Contacts, ForceSpec, IntegratorKind, Simulation, State, System, Tolerances};
 
 /// A validated scene, ready to simulate and render.
@@ -331,24 +331,31 @@ impl Scene {
 /// Returns the colliders of the bodies `[contacts]` selects, each with its
 /// restitution (its own, or the scene's).
 pub(crate) fn contacts_of(bodies: &[Body], settings: &ContactSettings) -> Contacts {
+    // Validation refuses a colliding body whose collider cannot be built.
     let colliders = settings
         .bodies
         .iter()
-        .filter_map(|&i| {
-            let b = &bodies[i];
-            let e = b.restitution.unwrap_or(settings.restitution);
-            let mu = b.friction.unwrap_or(settings.friction);
-            let c = match &b.shape {
-                Shape::Circle { radius } => Some(Collider::disc(i, *radius, e)),
-                Shape::Box { width, height } => Some(Collider::rectangle(i, *width, *height, e)),
-                // Validation refuses a colliding polygon that is not convex.
-                Shape::Polygon { points } => Collider::polygon(i, points.clone(), e).ok(),
-                Shape::Points { .. } => None,
-            };
-            c.map(|c| c.with_friction(mu))
-        })
+        .filter_map(|&i| collider_of(i, &bodies[i], settings).ok())
         .collect();
     Contacts::new(colliders, settings.tolerance).with_resting(settings.resting)
+}
+
+/// Returns the collider of body i, with its restitution and friction (its own, or the
+/// scene's), or why its shape cannot collide.
+pub(crate) fn collider_of(
+    i: usize,
+    b: &Body,
+    settings: &ContactSettings,
+) -> Result<Collider, PolygonProblem> {
+    let e = b.restitution.unwrap_or(settings.restitution);
+    let mu = b.friction.unwrap_or(settings.friction);
+    let c = match &b.shape {
+        Shape::Circle { radius } => Ok(Collider::disc(i, *radius, e)),
+        Shape::Box { width, height } => Collider::rectangle(i, *width, *height, e),
+        Shape::Polygon { points } => Collider::polygon(i, points.clone(), e),
+        Shape::Points { .. } => Err(PolygonProblem::Degenerate),
+    };
+    c.map(|c| c.with_friction(mu))
 }
 
 /// Sets [`Body::turns`] on every body that something may turn during the run: one

@@ -70,7 +70,8 @@ fn each_class_of_bad_input_is_located_and_writes_nothing() {
         ("mass and points", broken("mass = 1.0", "mass = 1.0\npoints = [{ offset = [0, 0], mass = 1 }]"), "has both `mass` and `points`", "13:10"),
         ("zero width", broken("width = 64", "width = 0"), "`width` must be from 1 to 16384", "6:9"),
         ("huge height", broken("height = 48", "height = 16385"), "`height` must be from 1 to 16384", "7:10"),
-        ("too many frames", broken("duration = 1.0", "duration = 40001.0"), "more than the limit of 1000000", ""),
+        ("view narrower than a normal number", broken("min = [-1.0, -1.0], max = [1.0, 1.0]", "min = [0.0, -1.0], max = [5e-324, 1.0]"), "the view is too small to draw", "9:8"),
+        ("too many frames", broken("duration = 1.0", "duration = 40001.0"), "more than the limit of 1000000", "4:12"),
         ("dt off the frames", broken("dt = 0.01", "dt = 0.015"), "nearest valid values are dt = 0.02 (2 steps a frame) and dt = 0.013333333333333334 (3 steps a frame)", "3:6"),
         ("spring to itself", broken("kind = \"drag\"\nk = 1.0", "kind = \"spring\"\na = \"puck\"\nb = \"puck\"\nstiffness = 1.0"), "joins a body to itself", "14:1"),
         ("key of another kind", broken("k = 1.0", "k = 1.0\ng = [0, 1]"), "`g` does not apply to a `drag` force", "17:5"),
@@ -104,6 +105,7 @@ fn each_rigid_body_key_is_checked_where_it_is_written() {
         ("at on gravity", force("kind = \"gravity\"\nat = [0.0, 0.0]"), "`at` does not apply to a `gravity` force", "16:6"),
         ("swarm angles backwards", swarm("angle = { min = 1.0, max = 0.5 }"), "`angle` has min above max", "22:9"),
         ("swarm spin not finite", swarm("angular_velocity = { min = nan, max = 0.5 }"), "`angular_velocity.min` must be a finite number", "22:28"),
+        ("polygon crossing itself", broken("mass = 1.0", "mass = 1.0\nshape = { polygon = { points = [[5, 1], [-2, -4], [2, -5], [1, 1]] } }"), "the polygon of body `puck` crosses itself", "10:1"),
         ("a point turned", broken("mass = 1.0", "points = [{ offset = [0.5, 0.5], mass = 2.0 }]\nangular_velocity = 1.0"), "body `puck` is turned but has no moment of inertia", "10:1"),
     ];
     for (case, text, message, location) in cases {

@@ -199,7 +199,8 @@ impl LayerCheck<'_> {
                 Some(v)
             } else {
                 self.error(
-                    Diagnostic::at(h.span(), "the step `h` must be > 0").label(format!("{v}")),
+                    Diagnostic::at(h.span(), "the step `h` must be > 0")
+                        .label(crate::numbers::readable(v)),
                 );
                 None
             }

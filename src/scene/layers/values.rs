@@ -89,7 +89,7 @@ impl LayerCheck<'_> {
                 raw.span(),
                 format!("`{key}` must be a fraction of a grid cell, > 0 and ≤ 2"),
             )
-            .label(format!("{v}")),
+            .label(crate::numbers::readable(v)),
         );
         None
     }
@@ -107,7 +107,7 @@ impl LayerCheck<'_> {
                 raw.span(),
                 "`width` must be a line width in pixels, > 0 and ≤ 50",
             )
-            .label(format!("{v}")),
+            .label(crate::numbers::readable(v)),
         );
         None
     }

@@ -8,6 +8,7 @@ use glam::DVec2;
 use toml::Spanned;
 
 use super::Validator;
+use crate::numbers::Readable;
 use crate::scene::raw::{RawBody, RawShape};
 use crate::scene::MAX_SHAPE_PIXELS;
 use crate::scene::{Body, Diagnostic, PointMass, RenderSettings, Rgba, Shape, View};
@@ -147,7 +148,7 @@ impl Validator {
         let angle = angle?;
         let inertia = match inertia {
             Some(given) => given?,
-            None => self.shape_inertia(raw, &name, &shape, mass)?,
+            None => self.shape_inertia(raw.span(), &name, &shape, mass)?,
         };
         Some(Body {
             name,
@@ -251,21 +252,35 @@ impl Validator {
     }
 
     /// Returns the moment of inertia of a shape of mass `mass`, or reports one too large
-    /// to be a number (a huge mass and size) at the body.
+    /// to be a number (a huge mass and size), or negative (an outline that crosses
+    /// itself), at the body or swarm (`span`).
     pub(super) fn shape_inertia(
         &mut self,
-        raw: &Spanned<RawBody>,
+        span: Range<usize>,
         name: &str,
         shape: &Shape,
         mass: f64,
     ) -> Option<f64> {
         let inertia = shape.inertia(mass);
-        if inertia.is_finite() {
+        if inertia.is_finite() && inertia >= 0.0 {
             return Some(inertia);
+        }
+        if inertia < 0.0 {
+            // Found by the mutated-scene tests: the plate formula's signed terms sum
+            // to a negative moment for an outline that crosses itself.
+            self.error(
+                Diagnostic::at(
+                    span,
+                    format!("the polygon of body `{name}` crosses itself"),
+                )
+                .label(format!("its moment of inertia comes out as {}", Readable(inertia)))
+                .hint("list the points in order around the outline, without crossings, or give `inertia` yourself"),
+            );
+            return None;
         }
         self.error(
             Diagnostic::at(
-                raw.span(),
+                span,
                 format!("the moment of inertia of body `{name}` is too large to compute"),
             )
             .label(format!("M·r² overflows: {inertia}"))
@@ -317,7 +332,11 @@ impl Validator {
                     points_raw.span(),
                     "a polygon needs at least 3 points enclosing some area",
                 )
-                .label(format!("{} points, area {}", points.len(), area.abs())),
+                .label(format!(
+                    "{} points, area {}",
+                    points.len(),
+                    Readable(area.abs())
+                )),
             );
             return None;
         }

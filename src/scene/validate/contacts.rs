@@ -10,7 +10,7 @@ use super::names::{Names, Target};
 use super::Validator;
 use crate::scene::raw::{RawContacts, RawForce, RawScene, RawSimulation};
 use crate::scene::{Body, CompareRun, ContactSettings, Diagnostic, Shape, SimulationSettings};
-use crate::sim::contacts::{convexity_problem, Contacts, Resting, DEFAULT_ITERATIONS};
+use crate::sim::contacts::{Contacts, PolygonProblem, Resting, DEFAULT_ITERATIONS};
 use crate::sim::ForceSpec;
 
 /// Returns |g|·dt for the scene's strongest gravity (0 without gravity): the speed
@@ -148,25 +148,6 @@ impl Validator {
                 chosen
             }
         };
-        for &i in &chosen {
-            if let Shape::Polygon { points } = &bodies[i].shape {
-                if let Some(problem) = convexity_problem(points) {
-                    self.error(
-                        Diagnostic::at(
-                            spans.shape(i),
-                            format!(
-                                "body `{}` collides but its polygon is {problem}",
-                                bodies[i].name
-                            ),
-                        )
-                        .hint(
-                            "split it into convex bodies, or leave it out of [contacts] `bodies`",
-                        ),
-                    );
-                    ok = false;
-                }
-            }
-        }
         if !ok {
             return None;
         }
@@ -181,6 +162,40 @@ impl Validator {
             },
             bodies: chosen,
         };
+        let mut refused = 0;
+        for &i in &settings.bodies {
+            let Err(problem) = crate::scene::collider_of(i, &bodies[i], &settings) else {
+                continue;
+            };
+            refused += 1;
+            if refused > 5 {
+                continue;
+            }
+            let name = &bodies[i].name;
+            let d = match problem {
+                PolygonProblem::NotConvex => Diagnostic::at(
+                    spans.shape(i),
+                    format!("body `{name}` collides but its polygon is not convex"),
+                )
+                .hint("split it into convex bodies, or leave it out of [contacts] `bodies`"),
+                PolygonProblem::Degenerate => Diagnostic::at(
+                    spans.shape(i),
+                    format!("body `{name}` collides but its shape has no area to collide with"),
+                )
+                .label("its sides are too small, or too unequal, for their area to be a number")
+                .hint("use other units, or leave it out of [contacts] `bodies`"),
+            };
+            self.error(d);
+        }
+        if refused > 5 {
+            self.error(Diagnostic::whole_file(format!(
+                "{} more colliding bodies cannot collide",
+                refused - 5
+            )));
+        }
+        if refused > 0 {
+            return None;
+        }
         let mut contacts = crate::scene::contacts_of(bodies, &settings);
         let pos: Vec<_> = bodies.iter().map(|b| b.position).collect();
         let angle: Vec<_> = bodies.iter().map(|b| b.angle).collect();

@@ -10,6 +10,7 @@ mod bodies;
 mod contacts;
 mod forces;
 mod names;
+mod run_length;
 mod swarms;
 mod timing;
 mod values;
@@ -29,6 +30,7 @@ pub const MAX_IMAGE_SIDE: i64 = 16384;
 pub const MAX_FRAMES: u64 = 1_000_000;
 /// The largest number of bodies a scene may declare, swarms included.
 pub const MAX_BODIES: u64 = 10_000_000;
+pub use run_length::{MAX_BODY_STEPS, MAX_STEPS};
 
 /// Checks every rule on a raw scene that fits the schema. Returns the scene when every
 /// rule holds, and every problem found.
@@ -62,11 +64,12 @@ impl Validator {
         let fps = render_raw
             .and_then(|r| r.get_ref().fps.as_ref())
             .map_or(Some(30.0), |f| self.positive(f, "fps"));
-        let simulation = self.simulation(raw.simulation.as_ref(), fps);
+        let timing = run_length::TimingSpans::new(raw.simulation.as_ref(), render_raw);
+        let simulation = self.simulation(raw.simulation.as_ref(), fps, &timing);
         let view = render_raw.and_then(|r| self.view(r));
         let bodies = self.bodies(&raw.body, view);
-        let render =
-            render_raw.and_then(|r| self.render(r.get_ref(), simulation.as_ref(), fps, view));
+        let render = render_raw
+            .and_then(|r| self.render(r.get_ref(), simulation.as_ref(), fps, view, &timing));
         // Forces are checked against every body's name, valid or not, so that one bad
         // body does not hide the problems of the forces.
         let body_names: Vec<String> = raw
@@ -136,8 +139,18 @@ impl Validator {
                 .map(Some),
             _ => None,
         };
+        let fits = match (&simulation, &render, &bodies) {
+            (Some(sim), Some(r), Some(bodies)) => self.run_fits(
+                sim,
+                r.fps,
+                (r.steps_per_frame, r.frame_count),
+                bodies.len(),
+                &timing,
+            ),
+            _ => Some(()),
+        };
         let hash = hex(&Sha256::digest(text.as_bytes()));
-        let (mut bodies, forces, contacts) = (bodies?, forces?, contacts?);
+        let (mut bodies, forces, contacts, ()) = (bodies?, forces?, contacts?, fits?);
         super::mark_turning(&mut bodies, &forces);
         if let Some(c) = &contacts {
             // An impulse off its centre of mass turns a colliding body that can move;

@@ -7,6 +7,7 @@ use toml::Spanned;
 use super::bodies::turned;
 use super::names::SwarmName;
 use super::{Validator, MAX_BODIES};
+use crate::numbers::Readable;
 use crate::scene::raw::{RawBody, RawRange, RawScalarRange, RawSwarm};
 use crate::scene::swarm::{
     grid_position, member_spin, member_state, split_member_name, Uniform1, Uniform2,
@@ -147,8 +148,15 @@ impl Validator {
                     continue;
                 }
             };
+            // Found by the mutated-scene tests: a swarm's shape was not held to the
+            // rules a body's is (a finite moment of inertia, not negative).
+            let Some(inertia) = self.shape_inertia(rs.span(), &format!("{name}0"), &shape, mass)
+            else {
+                ok = false;
+                first += count;
+                continue;
+            };
             members.reserve(count as usize);
-            let inertia = shape.inertia(mass);
             for i in 0..count {
                 let (mut r, v) = member_state(seed, i, position, velocity);
                 if grid {
@@ -295,7 +303,7 @@ impl Validator {
         }
         self.error(
             Diagnostic::at(raw.span(), format!("`{key}` has min above max"))
-                .label(format!("min = {min}, max = {max}"))
+                .label(format!("min = {}, max = {}", Readable(min), Readable(max)))
                 .hint("give min ≤ max"),
         );
         None

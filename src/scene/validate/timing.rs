@@ -5,7 +5,9 @@ use std::ops::Range;
 
 use toml::Spanned;
 
-use super::{Validator, MAX_FRAMES, MAX_IMAGE_SIDE};
+use super::run_length::{TimingSpans, MAX_STEPS};
+use super::{Validator, MAX_IMAGE_SIDE};
+use crate::numbers::Readable;
 use crate::scene::raw::{RawRender, RawSimulation};
 use crate::scene::{Body, CompareRun, Diagnostic, RenderSettings, Rgba, SimulationSettings, View};
 use crate::sim::{ForceSpec, IntegratorKind, Tolerances};
@@ -18,12 +20,14 @@ impl Validator {
         &mut self,
         raw: Option<&Spanned<RawSimulation>>,
         fps: Option<f64>,
+        spans: &TimingSpans,
     ) -> Option<SimulationSettings> {
         let Some(raw) = raw else {
             // Without a [simulation] table: explicit Euler, 5 s, ten steps a frame.
-            return fps.map(|fps| SimulationSettings {
+            let dt = self.default_dt(fps?, spans)?;
+            return Some(SimulationSettings {
                 integrator: IntegratorKind::Euler,
-                dt: 1.0 / (10.0 * fps),
+                dt,
                 duration: 5.0,
                 tolerances: Tolerances::default(),
                 compare: Vec::new(),
@@ -49,7 +53,7 @@ impl Validator {
         };
         let dt = match (&s.dt, fps) {
             (Some(dt), _) => self.positive(dt, "dt"),
-            (None, Some(fps)) => Some(1.0 / (10.0 * fps)),
+            (None, Some(fps)) => self.default_dt(fps, spans),
             (None, None) => None,
         };
         if let (Some(dt), Some(fps), Some(span)) = (dt, fps, s.dt.as_ref().map(|d| d.span())) {
@@ -149,25 +153,30 @@ impl Validator {
         ok.then_some(runs)
     }
 
-    /// Checks that 1/fps is a whole number of steps; returns that number.
+    /// Checks that 1/fps is a whole number of steps.
     pub(super) fn whole_steps_per_frame(
         &mut self,
         dt: f64,
         fps: f64,
         span: Range<usize>,
-    ) -> Option<u64> {
+    ) -> Option<()> {
         let interval = 1.0 / fps;
         let ratio = interval / dt;
+        // A count too large to be exact has no fraction to check; `steps_per_frame`
+        // refuses it, at the same place.
+        if ratio > MAX_STEPS as f64 {
+            return Some(());
+        }
         let nearest = ratio.round();
         if nearest >= 1.0 && (ratio - nearest).abs() <= WHOLE_STEPS_TOLERANCE * ratio {
-            return Some(nearest as u64);
+            return Some(());
         }
         let below = ratio.floor().max(1.0);
         let above = ratio.ceil().max(1.0);
         let option = |n: f64| {
             format!(
                 "dt = {} ({} step{} a frame)",
-                interval / n,
+                Readable(interval / n),
                 n,
                 if n == 1.0 { "" } else { "s" }
             )
@@ -185,7 +194,9 @@ impl Validator {
             Diagnostic::at(
                 span,
                 format!(
-                    "the frame interval 1/fps = {interval} is not a whole number of steps of dt = {dt} ({ratio:.6} steps)"
+                    "the frame interval 1/fps = {} is not a whole number of steps of dt = {} ({ratio:.6} steps)",
+                    Readable(interval),
+                    Readable(dt)
                 ),
             )
             .label("each frame must fall on a step")
@@ -200,6 +211,7 @@ impl Validator {
         sim: Option<&SimulationSettings>,
         fps: Option<f64>,
         view: Option<View>,
+        spans: &TimingSpans,
     ) -> Option<RenderSettings> {
         let width = self.image_side(r.width.as_ref(), "width", 800);
         let height = self.image_side(r.height.as_ref(), "height", 600);
@@ -220,19 +232,9 @@ impl Validator {
             .as_ref()
             .map(|s| self.positive(s, "force_scale"));
         let (sim, fps) = (sim?, fps?);
-        let steps_per_frame = (1.0 / fps / sim.dt).round().max(1.0) as u64;
-        // k = 0 ..= floor(duration·fps); the small relative allowance keeps 0.7·30 = 21
-        // from flooring to 20 through rounding.
-        let last = (sim.duration * fps * (1.0 + WHOLE_STEPS_TOLERANCE)).floor();
-        if last + 1.0 > MAX_FRAMES as f64 {
-            let d = Diagnostic::whole_file(format!(
-                "duration × fps asks for {} frames, more than the limit of {MAX_FRAMES}",
-                last + 1.0
-            ))
-            .hint("shorten `duration` or lower `fps`");
-            self.error(d);
-            return None;
-        }
+        let steps_per_frame = self.steps_per_frame(sim.dt, fps, spans);
+        let frame_count = self.frame_count(sim.duration, fps, spans);
+        let (steps_per_frame, frame_count) = (steps_per_frame?, frame_count?);
         Some(RenderSettings {
             width: width?,
             height: height?,
@@ -246,7 +248,7 @@ impl Validator {
             velocity_scale: velocity_scale.map_or(Some(None), |s| s.map(Some))?,
             force_scale: force_scale.map_or(Some(None), |s| s.map(Some))?,
             steps_per_frame,
-            frame_count: last as u64 + 1,
+            frame_count,
         })
     }
 
@@ -260,15 +262,33 @@ impl Validator {
         let v = view.get_ref();
         let min = self.vec2(&v.min, "view.min")?;
         let max = self.vec2(&v.max, "view.max")?;
-        if min.x < max.x && min.y < max.y {
+        let extent = max - min;
+        // A side below the smallest normal f64 (found by the mutated-scene tests:
+        // max = [5e-324, 9]) has no room for ticks or pixels: their steps underflow.
+        if extent.x >= f64::MIN_POSITIVE && extent.y >= f64::MIN_POSITIVE {
             return Some(View { min, max });
+        }
+        if min.x < max.x && min.y < max.y {
+            self.error(
+                Diagnostic::at(view.span(), "the view is too small to draw")
+                    .label(format!(
+                        "{} × {}",
+                        Readable(extent.x),
+                        Readable(extent.y)
+                    ))
+                    .hint("each side must be at least 2.2e-308 (the smallest normal number); use other units"),
+            );
+            return None;
         }
         self.error(
             Diagnostic::at(view.span(), "the view is empty")
                 .label("min must be below max on both axes")
                 .hint(format!(
                     "min = [{}, {}] and max = [{}, {}] leave no area",
-                    min.x, min.y, max.x, max.y
+                    Readable(min.x),
+                    Readable(min.y),
+                    Readable(max.x),
+                    Readable(max.y)
                 )),
         );
         None

@@ -5,6 +5,7 @@ use glam::DVec2;
 use toml::Spanned;
 
 use super::Validator;
+use crate::numbers::Readable;
 use crate::scene::raw::{RawForce, RawVec2};
 use crate::scene::{Diagnostic, Rgba};
 
@@ -44,7 +45,7 @@ impl Validator {
         }
         self.error(
             Diagnostic::at(raw.span(), format!("`{key}` must be a finite number"))
-                .label(format!("{v} is not finite")),
+                .label(format!("{} is not finite", Readable(v))),
         );
         None
     }
@@ -70,7 +71,7 @@ impl Validator {
         }
         self.error(
             Diagnostic::at(raw.span(), format!("`{key}` must be > 0"))
-                .label(format!("{v} is not positive")),
+                .label(format!("{} is not positive", Readable(v))),
         );
         None
     }
@@ -82,7 +83,7 @@ impl Validator {
         }
         self.error(
             Diagnostic::at(raw.span(), format!("`{key}` must be ≥ 0"))
-                .label(format!("{v} is negative")),
+                .label(format!("{} is negative", Readable(v))),
         );
         None
     }
@@ -106,7 +107,7 @@ impl Validator {
         }
         self.error(
             Diagnostic::at(raw.span(), format!("`{key}` must be two finite numbers"))
-                .label(format!("[{x}, {y}] is not finite")),
+                .label(format!("[{}, {}] is not finite", Readable(x), Readable(y))),
         );
         None
     }

@@ -89,8 +89,14 @@ impl Collider {
     }
 
     /// Returns the collider of a box of width w and height h centred on its centre of
-    /// mass.
-    pub fn rectangle(body: usize, width: f64, height: f64, restitution: f64) -> Self {
+    /// mass, or why it cannot collide (sides so small or so unequal that its area
+    /// rounds to nothing).
+    pub fn rectangle(
+        body: usize,
+        width: f64,
+        height: f64,
+        restitution: f64,
+    ) -> Result<Self, PolygonProblem> {
         let (x, y) = (0.5 * width, 0.5 * height);
         let points = vec![
             DVec2::new(-x, -y),
@@ -98,12 +104,11 @@ impl Collider {
             DVec2::new(x, y),
             DVec2::new(-x, y),
         ];
-        let mut c =
-            Self::polygon(body, points, restitution).expect("a box of positive sides is convex");
+        let mut c = Self::polygon(body, points, restitution)?;
         if let ColliderShape::Convex { cuboid, .. } = &mut c.shape {
             *cuboid = Some(Cuboid::new(to_parry(DVec2::new(x, y))));
         }
-        c
+        Ok(c)
     }
 
     /// Returns the collider of a convex polygon whose vertices are given relative to
@@ -286,7 +291,7 @@ mod tests {
 
     #[test]
     fn a_turned_box_has_the_bounding_box_of_its_turned_corners() {
-        let c = Collider::rectangle(0, 2.0, 1.0, 1.0);
+        let c = Collider::rectangle(0, 2.0, 1.0, 1.0).expect("a box");
         let quarter = std::f64::consts::FRAC_PI_2.sin_cos();
         let (lo, hi) = c.aabb(DVec2::new(10.0, 0.0), quarter);
         assert!((lo - DVec2::new(9.5, -1.0)).length() < 1e-15);

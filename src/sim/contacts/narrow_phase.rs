@@ -327,8 +327,8 @@ mod tests {
     #[test]
     fn a_box_flat_on_a_floor_touches_at_the_middle_of_its_bottom_edge() {
         // A 1 × 1 box 1e-3 above a 10 × 1 floor whose top is y = 0.
-        let bx = Collider::rectangle(0, 1.0, 1.0, 1.0);
-        let floor = Collider::rectangle(1, 10.0, 1.0, 1.0);
+        let bx = Collider::rectangle(0, 1.0, 1.0, 1.0).expect("a box");
+        let floor = Collider::rectangle(1, 10.0, 1.0, 1.0).expect("a box");
         let c = contact(
             &bx,
             &at(0.3, 0.501, 0.0),
@@ -368,7 +368,7 @@ mod tests {
     #[test]
     fn a_disc_against_a_box_has_its_normal_from_the_box_face() {
         let disc = Collider::disc(0, 0.5, 1.0);
-        let wall = Collider::rectangle(1, 1.0, 4.0, 1.0);
+        let wall = Collider::rectangle(1, 1.0, 4.0, 1.0).expect("a box");
         // The disc right of the wall (wall face at x = 0.5), 0.25 away.
         let c = contact(
             &disc,
@@ -416,8 +416,8 @@ mod touching_tests {
         ];
         let pairs = [
             (
-                Collider::rectangle(0, 1.0, 1.0, 1.0),
-                Collider::rectangle(1, 1.0, 1.0, 1.0),
+                Collider::rectangle(0, 1.0, 1.0, 1.0).expect("a box"),
+                Collider::rectangle(1, 1.0, 1.0, 1.0).expect("a box"),
             ),
             (
                 Collider::polygon(0, square.clone(), 1.0).expect("convex"),

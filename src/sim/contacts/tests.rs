@@ -101,8 +101,8 @@ fn a_static_body_takes_no_impulse_and_a_flat_landing_no_spin() {
     let mut sim =
         Simulation::new(system, start, IntegratorKind::Euler, 0.01).with_contacts(Contacts::new(
             vec![
-                Collider::rectangle(0, 4.0, 1.0, 0.5),
-                Collider::rectangle(1, 1.0, 0.5, 0.5),
+                Collider::rectangle(0, 4.0, 1.0, 0.5).expect("a box"),
+                Collider::rectangle(1, 1.0, 0.5, 0.5).expect("a box"),
             ],
             None,
         ));

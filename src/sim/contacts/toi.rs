@@ -298,7 +298,7 @@ mod tests {
         // A disc of radius 0.1 at 1000 m/s, dt = 0.01: 10 m a step, against a wall 1 cm
         // thick whose near face is 2 m ahead: it touches at λ = (2 - 0.1)/10 = 0.19.
         let disc = Collider::disc(0, 0.1, 1.0);
-        let wall = Collider::rectangle(1, 0.01, 2.0, 1.0);
+        let wall = Collider::rectangle(1, 0.01, 2.0, 1.0).expect("a box");
         let pd = moving(DVec2::ZERO, DVec2::new(10.0, 0.0));
         let pw = moving(DVec2::new(2.005, 0.0), DVec2::ZERO);
         let tol = 1e-6 * 0.01;
@@ -311,8 +311,8 @@ mod tests {
     fn a_turning_box_is_caught_when_its_corner_swings_down_onto_a_floor() {
         // A 2 × 0.2 bar above a floor, its centre fixed, turning from flat by a quarter
         // turn in one step: its end reaches down 1 and the floor is 0.5 below.
-        let bar = Collider::rectangle(0, 2.0, 0.2, 1.0);
-        let floor = Collider::rectangle(1, 10.0, 1.0, 1.0);
+        let bar = Collider::rectangle(0, 2.0, 0.2, 1.0).expect("a box");
+        let floor = Collider::rectangle(1, 10.0, 1.0, 1.0).expect("a box");
         let mut pb = moving(DVec2::ZERO, DVec2::ZERO);
         pb.dangle = std::f64::consts::FRAC_PI_2;
         let pf = moving(DVec2::new(0.0, -1.0), DVec2::ZERO);
