@@ -32,6 +32,7 @@ use crate::error::{Error, Result};
 use crate::history::{HistoryWriter, PointHistory};
 use crate::output::write_atomic;
 use crate::scene::Scene;
+use crate::sim::contacts::WarmPoint;
 use crate::sim::{IntegratorKind, Simulation, State};
 
 /// The integration methods whose whole state between steps is t, the positions and the
@@ -115,6 +116,9 @@ pub struct Checkpoint {
     pub omega: Vec<f64>,
     /// Positions at frames 0 .. frame (not including it), when trails are on.
     pub trail: Vec<Arc<[DVec2]>>,
+    /// The resting contacts' impulses, which start the next step's solver: part of the
+    /// state of a scene with collisions.
+    pub contacts: Vec<WarmPoint>,
 }
 
 /// The JSON line of a checkpoint file.
@@ -125,6 +129,8 @@ struct Header {
     steps: u64,
     t_bits: u64,
     trail_frames: u64,
+    #[serde(default)]
+    contact_points: u64,
     payload_sha256: String,
 }
 
@@ -148,6 +154,7 @@ impl Checkpoint {
                 .take(usize::try_from(frame).unwrap_or(usize::MAX))
                 .cloned()
                 .collect(),
+            contacts: sim.contacts().map_or_else(Vec::new, |c| c.warm_start()),
         }
     }
 
@@ -156,9 +163,11 @@ impl Checkpoint {
         let mut state = State::new(self.t, self.pos.clone(), self.vel.clone());
         state.angle.clone_from(&self.angle);
         state.omega.clone_from(&self.omega);
-        scene
+        let mut sim = scene
             .simulation_from(state, integrator)
-            .continuing(scene.initial_state().t, self.steps)
+            .continuing(scene.initial_state().t, self.steps);
+        sim.set_contact_warm_start(&self.contacts);
+        sim
     }
 
     /// Serialises the checkpoint.
@@ -177,12 +186,22 @@ impl Checkpoint {
         for frame in &self.trail {
             frame.iter().for_each(&mut put);
         }
+        // Each warm-start point as two pairs of words: (i·2³² + j, features) and
+        // (P_n, P_t).
+        for &(i, j, id, pn, pt) in &self.contacts {
+            let pair = (u64::from(i) << 32) | u64::from(j);
+            payload.extend_from_slice(&pair.to_le_bytes());
+            payload.extend_from_slice(&id.to_le_bytes());
+            payload.extend_from_slice(&pn.to_bits().to_le_bytes());
+            payload.extend_from_slice(&pt.to_bits().to_le_bytes());
+        }
         let header = Header {
             key: key.clone(),
             frame: self.frame,
             steps: self.steps,
             t_bits: self.t.to_bits(),
             trail_frames: self.trail.len() as u64,
+            contact_points: self.contacts.len() as u64,
             payload_sha256: hex(&Sha256::digest(&payload)),
         };
         let mut out = Vec::with_capacity(payload.len() + 512);
@@ -206,9 +225,26 @@ impl Checkpoint {
         let n = key.bodies;
         let frames = usize::try_from(header.trail_frames).ok()?;
         let expected_frames = if key.trails { header.frame } else { 0 };
-        if header.trail_frames != expected_frames || payload.len() != 16 * n * (3 + frames) {
+        let points = usize::try_from(header.contact_points).ok()?;
+        let state_bytes = 16 * n * (3 + frames);
+        if header.trail_frames != expected_frames || payload.len() != state_bytes + 32 * points {
             return None;
         }
+        let (payload, warm) = payload.split_at(state_bytes);
+        let word = |c: &[u8]| u64::from_le_bytes(c.try_into().unwrap_or_default());
+        let contacts = warm
+            .chunks_exact(32)
+            .map(|c| {
+                let pair = word(&c[..8]);
+                (
+                    (pair >> 32) as u32,
+                    pair as u32,
+                    word(&c[8..16]),
+                    f64::from_bits(word(&c[16..24])),
+                    f64::from_bits(word(&c[24..32])),
+                )
+            })
+            .collect();
         let vectors: Vec<DVec2> = payload
             .chunks_exact(16)
             .map(|c| {
@@ -229,6 +265,7 @@ impl Checkpoint {
                 .chunks_exact(n.max(1))
                 .map(Arc::from)
                 .collect(),
+            contacts,
         })
     }
 }

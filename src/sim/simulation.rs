@@ -174,6 +174,14 @@ impl Simulation {
         self.contacts.as_deref().map(|c| &c.contacts)
     }
 
+    /// Restores the resting contacts' warm start (see [`Contacts::set_warm_start`]), as
+    /// a checkpoint records it; without collisions, nothing.
+    pub fn set_contact_warm_start(&mut self, entries: &[super::contacts::WarmPoint]) {
+        if let Some(c) = &mut self.contacts {
+            c.contacts.set_warm_start(entries);
+        }
+    }
+
     /// Starts or stops recording every impulse for [`Simulation::take_contact_events`].
     pub fn record_contacts(&mut self, on: bool) {
         if let Some(c) = &mut self.contacts {
@@ -224,6 +232,7 @@ impl Simulation {
         if let Some(a) = &mut self.adaptive {
             *a = Adaptive::new(a.tol);
         }
+        self.set_contact_warm_start(&[]);
     }
 
     /// Recreates a simulation that started at `t0` and has taken `steps` steps of size

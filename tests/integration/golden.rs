@@ -35,6 +35,12 @@ const SCENES: &[&str] = &[
     "billiards.toml",
     "gas.toml",
     "tumble.toml",
+    // Friction and resting contact: coming to rest, rolling, stacks and a pile.
+    "rest.toml",
+    "roll.toml",
+    "tower.toml",
+    "pyramid.toml",
+    "pour.toml",
 ];
 
 /// Our references are exact.

@@ -15,6 +15,7 @@ mod mutations;
 mod perf;
 mod properties;
 mod render_cli;
+mod resting;
 mod resume;
 mod rotation;
 mod run_length;

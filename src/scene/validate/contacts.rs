@@ -73,7 +73,7 @@ impl Validator {
                 self.error(
                     Diagnostic::at(n.span(), "`iterations` must be between 1 and 1000")
                         .label(format!("{} sweeps", n.get_ref()))
-                        .hint("the resting-contact solver's sweeps per step; 10 is the default"),
+                        .hint("the resting-contact solver's sweeps per step; 50 is the default"),
                 );
                 None
             }

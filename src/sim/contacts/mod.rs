@@ -85,7 +85,11 @@ impl Default for Resting {
 pub const DEFAULT_SLOP: f64 = 1e-3;
 
 /// The default sweeps of the resting-contact solver per step.
-pub const DEFAULT_ITERATIONS: usize = 10;
+pub const DEFAULT_ITERATIONS: usize = 50;
+
+/// One resting contact point's warm start: (collider i, collider j, the point's
+/// features, P_n, P_t).
+pub type WarmPoint = (u32, u32, u64, f64, f64);
 
 /// One impulse, as the collision log records it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -184,7 +188,7 @@ impl Contacts {
 
     /// Returns the resting contacts' impulses of the last step (the warm start of the
     /// next), in a fixed order: (collider i, collider j, point's features, P_n, P_t).
-    pub fn warm_start(&self) -> Vec<(u32, u32, u64, f64, f64)> {
+    pub fn warm_start(&self) -> Vec<WarmPoint> {
         self.warm
             .iter()
             .map(|(&(i, j, id), &(pn, pt))| (i, j, id, pn, pt))
@@ -192,7 +196,7 @@ impl Contacts {
     }
 
     /// Restores the warm start that [`Contacts::warm_start`] returned.
-    pub fn set_warm_start(&mut self, entries: &[(u32, u32, u64, f64, f64)]) {
+    pub fn set_warm_start(&mut self, entries: &[WarmPoint]) {
         self.warm = entries
             .iter()
             .map(|&(i, j, id, pn, pt)| ((i, j, id), (pn, pt)))

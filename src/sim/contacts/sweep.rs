@@ -21,10 +21,13 @@ use crate::sim::{State, System};
 /// rest to the resting-contact solver.
 const MAX_END_SWEEPS: usize = 100;
 
-/// How many slops resting bodies may overlap before the run stops: the solver keeps a
-/// resting overlap under one slop, and pushes back anything deeper by a fifth of its
-/// excess per pass.
+/// How deep resting bodies may overlap before the run stops: four slops, or a tenth of
+/// the smaller body's size if that is more. The solver keeps a body resting on
+/// another within about one slop and pushes back anything deeper by a fifth of its
+/// excess per pass, but a pile being struck from above is squeezed further for a few
+/// steps; a tenth of a body is far from passing through it.
 const OVERLAP_SLOPS: f64 = 4.0;
+const OVERLAP_SIZE: f64 = 0.1;
 
 /// Impacts in one step, per colliding body, past which the step stops searching for
 /// more and leaves what is left to the resting contacts at its end and the overlap
@@ -102,11 +105,13 @@ impl Contacts {
         };
         let margin = |i: usize| {
             let own = tolerance.unwrap_or(super::DEFAULT_TOLERANCE * colliders[i].size);
-            // Resting contacts are found up to the slop apart.
+            // Resting contacts are found up to the slop apart, and as far as a resting
+            // approach closes in a step (see the solver's reach below).
             if resting.speed > 0.0 {
                 own + resting
                     .slop
                     .unwrap_or(super::DEFAULT_SLOP * colliders[i].size)
+                    + resting.speed * h
             } else {
                 own
             }
@@ -319,12 +324,20 @@ impl Contacts {
             // With resting contact, points up to the slop apart are the solver's
             // (speculative: they may close that gap, no more); without, only touching
             // points matter.
-            let reach = if resting.speed > 0.0 { sl } else { t };
+            // Speculative contacts: a pair apart by less than the slop plus what a
+            // resting approach closes in one step (resting speed × h) goes to the
+            // solver, which lets it close its gap and no more; an impact would be
+            // faster, and is found by the next step's time of impact.
+            let reach = if resting.speed > 0.0 {
+                sl + resting.speed * h
+            } else {
+                t
+            };
             let Some(ct) = contact(&colliders[iu], &pi, &colliders[ju], &pj, reach, reach) else {
                 continue;
             };
             let allowed = t + if resting.speed > 0.0 {
-                OVERLAP_SLOPS * sl
+                (OVERLAP_SLOPS * sl).max(OVERLAP_SIZE * colliders[iu].size.min(colliders[ju].size))
             } else {
                 0.0
             };
