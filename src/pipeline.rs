@@ -64,6 +64,24 @@ pub struct RenderExtras {
 pub struct RenderReport {
     pub manifest: Manifest,
     pub manifest_path: PathBuf,
+    /// What the first and the last frames drawn cost, to show whether a late frame
+    /// costs more than an early one (as redrawing every trail whole would).
+    pub edge_costs: EdgeCosts,
+}
+
+/// How many frames at each end of a render [`EdgeCosts`] sums.
+pub const EDGE_FRAMES: u64 = 100;
+
+/// The seconds that drawing, encoding and writing took for the first and for the last
+/// [`EDGE_FRAMES`] frames of the range asked for (fewer when the range is shorter, and
+/// the two overlap when it holds fewer than twice as many), summed over the frames, so
+/// that the two compare whatever the number of threads.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct EdgeCosts {
+    /// Frames at each end that the sums cover.
+    pub frames: u64,
+    pub first_s: f64,
+    pub last_s: f64,
 }
 
 /// One frame's snapshot, handed from the simulation to a worker.
@@ -90,6 +108,9 @@ struct StageClock {
     draw: AtomicU64,
     encode: AtomicU64,
     write: AtomicU64,
+    /// Draw, encode and write of the first and last [`EDGE_FRAMES`] frames.
+    first: AtomicU64,
+    last: AtomicU64,
 }
 
 impl StageClock {
@@ -97,6 +118,18 @@ impl StageClock {
         let now = Instant::now();
         counter.fetch_add((now - since).as_nanos() as u64, Ordering::Relaxed);
         now
+    }
+
+    /// Adds one frame's whole cost, from `since`, to the sums of the ends of `range` it
+    /// belongs to.
+    fn add_edges(&self, range: &Range<u64>, index: u64, since: Instant) {
+        let nanos = since.elapsed().as_nanos() as u64;
+        if index < range.start.saturating_add(EDGE_FRAMES) {
+            self.first.fetch_add(nanos, Ordering::Relaxed);
+        }
+        if index >= range.end.saturating_sub(EDGE_FRAMES) {
+            self.last.fetch_add(nanos, Ordering::Relaxed);
+        }
     }
 }
 
@@ -235,6 +268,7 @@ fn render_full(
     std::thread::scope(|scope| {
         for _ in 0..threads {
             let receiver = receiver.clone();
+            let range = &range;
             let (renderer, clock, stop, first_error, written, progress, static_png) = (
                 &renderer,
                 &clock,
@@ -258,7 +292,8 @@ fn render_full(
                     if stop.load(Ordering::Relaxed) {
                         continue;
                     }
-                    match draw_and_write(
+                    let started = Instant::now();
+                    let done = draw_and_write(
                         scene,
                         integrator,
                         renderer,
@@ -267,7 +302,9 @@ fn render_full(
                         options,
                         clock,
                         &mut buffers,
-                    ) {
+                    );
+                    clock.add_edges(range, job.index, started);
+                    match done {
                         Ok(()) => {
                             written.fetch_add(1, Ordering::Relaxed);
                             progress.inc(1);
@@ -436,6 +473,11 @@ fn render_full(
     Ok(RenderReport {
         manifest,
         manifest_path,
+        edge_costs: EdgeCosts {
+            frames: EDGE_FRAMES.min(range.end - range.start),
+            first_s: nanos(&clock.first),
+            last_s: nanos(&clock.last),
+        },
     })
 }
 
