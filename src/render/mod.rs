@@ -18,7 +18,9 @@ pub mod damage;
 pub mod encode;
 pub mod fastpng;
 pub mod layers;
+pub mod looks;
 pub mod plot;
+pub mod raster;
 pub mod springs;
 pub mod sprite;
 pub mod text;
@@ -33,9 +35,9 @@ pub use encode::{encode_png, encode_png_into, Compression, Provenance};
 
 use crate::history::PointHistory;
 use crate::scene::Scene;
-use bodies::{draw_arrow, BodyLook};
+use bodies::draw_arrow;
 use clip::ClipRect;
-use sprite::SpriteSheet;
+use looks::Look;
 
 /// The state of one frame, as the renderer sees it.
 #[derive(Clone, Copy, Debug)]
@@ -132,15 +134,7 @@ pub struct Renderer {
     duration: f64,
 }
 
-/// A look shared by one or more bodies, and its sprites when it is stamped.
-struct Look {
-    body: BodyLook,
-    sprite: Option<SpriteSheet>,
-}
-
-/// How many bodies must share a small look before it is stamped from sprites rather
-/// than drawn as a path: scenes of a few bodies are drawn exactly as their paths.
-pub const SPRITE_MIN_BODIES: usize = 16;
+pub use looks::SPRITE_MIN_BODIES;
 
 /// Pixels added to a body's reach for the rectangle it damages: the outline's
 /// half-width and anti-aliasing take at most 3 (a sprite pads by as much), and one more
@@ -161,7 +155,7 @@ fn force_color() -> Color {
 /// a path.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum BodyDrawing {
-    /// Stamp small looks shared by at least [`SPRITE_MIN_BODIES`] bodies from sprites;
+    /// Stamp small geometries shared by at least [`SPRITE_MIN_BODIES`] bodies from sprites;
     /// draw the others as paths. The default.
     #[default]
     Sprites,
@@ -194,49 +188,14 @@ impl Renderer {
             .iter()
             .all(|p| *p == first)
             .then_some(background);
-        // Consecutive bodies that look alike share one look; a swarm's members are
-        // consecutive, so a swarm of any size has one.
-        let mut looks: Vec<Look> = Vec::new();
-        let mut users: Vec<usize> = Vec::new();
-        let mut look_of = Vec::with_capacity(scene.bodies.len());
         // With `show_bodies = false` nothing of the bodies is drawn.
         let shown = if r.show_bodies {
             scene.bodies.as_slice()
         } else {
             &[]
         };
-        for (i, b) in shown.iter().enumerate() {
-            // A look that never turns is prepared at its body's angle; one that turns
-            // at angle 0, whatever the body's first angle.
-            let same = i > 0 && {
-                let a = &shown[i - 1];
-                a.shape == b.shape
-                    && a.color == b.color
-                    && a.show_velocity == b.show_velocity
-                    && a.show_force == b.show_force
-                    && a.turns == b.turns
-                    && (a.turns || a.angle == b.angle)
-            };
-            if !same {
-                looks.push(Look {
-                    body: BodyLook::new(b, &camera),
-                    sprite: None,
-                });
-                users.push(0);
-            }
-            *users.last_mut().expect("a look was just pushed") += 1;
-            look_of.push((looks.len() - 1) as u32);
-        }
-        if drawing == BodyDrawing::Sprites {
-            for (look, n) in looks.iter_mut().zip(users) {
-                // A turning look is stamped only when turning adds a line over the
-                // same disc: a circle.
-                let stamps = !look.body.turns() || look.body.turns_by_marker();
-                if n >= SPRITE_MIN_BODIES && look.body.is_outline() && stamps {
-                    look.sprite = SpriteSheet::new(&look.body);
-                }
-            }
-        }
+        // Bodies that look alike share one look, wherever they stand in the file.
+        let looks::Looks { looks, look_of } = looks::Looks::new(shown, &camera, drawing);
         let arrow_bodies = shown
             .iter()
             .enumerate()

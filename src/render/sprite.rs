@@ -14,6 +14,8 @@
 //! the unsnapped position, the difference is that of moving the shape by at most
 //! 1/(2·`PHASES`) pixel; `tests/integration/perf.rs` measures both.
 
+use std::sync::Arc;
+
 use tiny_skia::{Color, Pixmap};
 
 use super::bodies::BodyLook;
@@ -29,19 +31,29 @@ pub const MAX_SPRITE_REACH: f32 = 24.0;
 /// [`BodyLook::on_grid`]), so that the sprite and the path agree sample for sample.
 pub const GRID: f32 = 1.0 / 256.0;
 
-/// A look rasterised once at every sub-pixel phase.
+/// A look rasterised once at every sub-pixel phase, stamped in its colours.
+///
+/// The coverage depends only on the look's geometry, so looks that differ only in
+/// colour share it ([`SpriteSheet::coverage`], [`SpriteSheet::with_coverage`]).
 #[derive(Clone, Debug)]
 pub struct SpriteSheet {
-    sprites: Vec<Sprite>,
+    coverage: Arc<SpriteCoverage>,
     fill: Ink,
     edge: Ink,
+}
+
+/// The coverage of a look's fill and outline at every sub-pixel phase, whatever its
+/// colours.
+#[derive(Debug)]
+pub struct SpriteCoverage {
+    sprites: Vec<Sprite>,
 }
 
 /// A paint's colour as tiny-skia's 8-bit pipeline holds it: premultiplied bytes, and
 /// whether it is opaque (tiny-skia then blends by linear interpolation with the
 /// coverage, otherwise by scaling the colour by the coverage and compositing over).
 #[derive(Clone, Copy, Debug)]
-struct Ink {
+pub struct Ink {
     rgba: [u16; 4],
     opaque: bool,
 }
@@ -64,6 +76,23 @@ impl SpriteSheet {
     /// Rasterises an outline look at every phase, or returns `None` when it is too
     /// large to stamp or is not an outline.
     pub fn new(look: &BodyLook) -> Option<Self> {
+        Some(Self::with_coverage(Self::coverage(look)?, look))
+    }
+
+    /// Returns a sheet that stamps `coverage`, rasterised from a look of the same
+    /// geometry as `look`, in `look`'s colours.
+    pub fn with_coverage(coverage: Arc<SpriteCoverage>, look: &BodyLook) -> Self {
+        let (fill, edge) = look.colors();
+        SpriteSheet {
+            coverage,
+            fill: Ink::of(fill),
+            edge: Ink::of(edge),
+        }
+    }
+
+    /// Rasterises the coverage of an outline look's fill and outline at every phase,
+    /// or returns `None` when the look is too large to stamp or is not an outline.
+    pub fn coverage(look: &BodyLook) -> Option<Arc<SpriteCoverage>> {
         if !look.is_outline() {
             return None;
         }
@@ -90,12 +119,7 @@ impl SpriteSheet {
                 sprites.push(Sprite::trimmed(&fill, &edge, -pad, -pad));
             }
         }
-        let (fill, edge) = look.colors();
-        Some(SpriteSheet {
-            sprites,
-            fill: Ink::of(fill),
-            edge: Ink::of(edge),
-        })
+        Some(Arc::new(SpriteCoverage { sprites }))
     }
 
     /// Returns the pixels that [`SpriteSheet::stamp`] at (x, y) may change, columns
@@ -104,7 +128,7 @@ impl SpriteSheet {
     pub fn footprint(&self, x: f32, y: f32) -> (i64, i64, i64, i64) {
         let (ix, i) = snap(x);
         let (iy, j) = snap(y);
-        let sprite = &self.sprites[(j * PHASES + i) as usize];
+        let sprite = &self.coverage.sprites[(j * PHASES + i) as usize];
         let (x0, y0) = (ix + i64::from(sprite.dx), iy + i64::from(sprite.dy));
         (x0, y0, x0 + sprite.width as i64, y0 + sprite.height as i64)
     }
@@ -114,7 +138,7 @@ impl SpriteSheet {
     pub fn stamp(&self, pixmap: &mut Pixmap, x: f32, y: f32) {
         let (ix, i) = snap(x);
         let (iy, j) = snap(y);
-        let sprite = &self.sprites[(j * PHASES + i) as usize];
+        let sprite = &self.coverage.sprites[(j * PHASES + i) as usize];
         sprite.stamp(
             pixmap,
             ix + i64::from(sprite.dx),
@@ -126,7 +150,8 @@ impl SpriteSheet {
 }
 
 impl Ink {
-    fn of(color: Color) -> Ink {
+    /// Returns a colour as tiny-skia's 8-bit pipeline paints it.
+    pub fn of(color: Color) -> Ink {
         let c = color.premultiply().to_color_u8();
         Ink {
             rgba: [c.red(), c.green(), c.blue(), c.alpha()].map(u16::from),
@@ -140,7 +165,7 @@ impl Ink {
     /// otherwise: s' = div255(s·c), then d' = s' + div255(d·(255 - s'_a)) (source over).
     /// Both leave d unchanged when c = 0.
     #[inline(always)]
-    fn blend(&self, d: &mut [u8], c: u8) {
+    pub fn blend(&self, d: &mut [u8], c: u8) {
         let c = u16::from(c);
         let div255 = |v: u16| (v + 255) >> 8;
         if self.opaque {
