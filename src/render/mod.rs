@@ -35,7 +35,7 @@ pub use encode::{encode_png, encode_png_into, Compression, Provenance};
 
 use crate::history::PointHistory;
 use crate::scene::Scene;
-use bodies::draw_arrow;
+use bodies::{draw_arrow, draw_arrow_path};
 use clip::ClipRect;
 use looks::Look;
 
@@ -132,6 +132,9 @@ pub struct Renderer {
     turning: bool,
     /// The simulated time of the last frame, for the comparison's error strip.
     duration: f64,
+    /// Whether arrows and turning bodies take the fast paths (sprites, [`raster`]) or
+    /// tiny-skia's paths, the reference they are tested against.
+    drawing: BodyDrawing,
 }
 
 pub use looks::SPRITE_MIN_BODIES;
@@ -151,15 +154,16 @@ fn force_color() -> Color {
     Color::from_rgba8(0xc0, 0x39, 0x2b, 0xff)
 }
 
-/// How bodies are drawn: sprites for small looks many bodies share, or every body as
-/// a path.
+/// How bodies and arrows are drawn: the fast ways (sprites for small looks many bodies
+/// share, [`raster`] for arrows and turning boxes), or everything as tiny-skia's paths.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum BodyDrawing {
     /// Stamp small geometries shared by at least [`SPRITE_MIN_BODIES`] bodies from sprites;
     /// draw the others as paths. The default.
     #[default]
     Sprites,
-    /// Draw every body as a path at its exact position.
+    /// Draw every body and arrow as tiny-skia's paths, bodies at their exact
+    /// positions: the reference the fast ways are tested against.
     Paths,
 }
 
@@ -217,6 +221,7 @@ impl Renderer {
             springs: springs::Springs::new(scene),
             turning: scene.bodies.iter().any(|b| b.turns),
             duration: scene.frame_time(r.frame_count - 1).max(f64::MIN_POSITIVE),
+            drawing,
         }
     }
 
@@ -372,18 +377,26 @@ impl Renderer {
                 let d = self
                     .camera
                     .to_pixel_vector_f64(self.arrows.velocity * frame.vel[i]);
-                draw_arrow(pixmap, &self.clip, at, d, velocity_color(), 2.0);
+                self.arrow(pixmap, at, d, velocity_color());
             }
             if let (true, Some(force)) = (look.show_force, frame.force) {
                 let d = self
                     .camera
                     .to_pixel_vector_f64(self.arrows.force * force[i]);
-                draw_arrow(pixmap, &self.clip, at, d, force_color(), 2.0);
+                self.arrow(pixmap, at, d, force_color());
             }
         }
         self.overlay.draw_frame(pixmap, &self.static_layer, frame);
         if let Some(compare) = frame.compare {
             compare::draw(pixmap, &self.camera, compare, self.duration);
+        }
+    }
+
+    /// Draws a body's arrow from pixel `at` along the pixel vector `d`, 2 pixels wide.
+    fn arrow(&self, pixmap: &mut Pixmap, at: (f64, f64), d: (f64, f64), c: Color) {
+        match self.drawing {
+            BodyDrawing::Sprites => draw_arrow(pixmap, &self.clip, at, d, c, 2.0),
+            BodyDrawing::Paths => draw_arrow_path(pixmap, &self.clip, at, d, c, 2.0),
         }
     }
 

@@ -6,6 +6,7 @@ mod cli_extras;
 mod closed_forms;
 mod diagnostics;
 mod docs;
+mod every_scene;
 mod figures;
 mod golden;
 mod integrators;
