@@ -36,9 +36,24 @@ pub struct BodyLook {
     trail: Color,
     /// A radius in pixels that encloses everything drawn for the body.
     reach: f32,
+    /// For a turning body whose outline is convex (a box, a convex polygon), the
+    /// outline and its stroke prepared for the scan converter.
+    turned: Option<TurnedOutline>,
     pub show_velocity: bool,
     pub show_force: bool,
 }
+
+/// A turning convex outline as [`raster`] draws it: the outline's points at angle 0 as
+/// tiny-skia's path holds them, and the ring its stroke covers, turned and placed at
+/// each frame by the transform tiny-skia would apply to the paths.
+#[derive(Clone, Debug)]
+struct TurnedOutline {
+    fill: Vec<raster::Point>,
+    ring: raster::Ring,
+}
+
+/// Half the width of every outline's stroke, in pixels.
+const OUTLINE_HALF_WIDTH: f64 = 0.75;
 
 /// Returns a colour from straight RGBA bytes, with alpha scaled by `alpha`.
 pub fn color(c: Rgba, alpha: f32) -> Color {
@@ -131,9 +146,25 @@ impl BodyLook {
                 reach = reach.max(6.0);
             }
         }
+        // A turning outline that is convex is drawn by the scan converter.
+        let turned = outline
+            .as_ref()
+            .filter(|_| body.turns && points.is_none())
+            .and_then(|path| {
+                let fill: Vec<raster::Point> = path.points().iter().map(|p| (p.x, p.y)).collect();
+                let is_polygon = path.segments().all(|s| {
+                    matches!(
+                        s,
+                        PathSegment::MoveTo(_) | PathSegment::LineTo(_) | PathSegment::Close
+                    )
+                });
+                let ring = raster::Ring::of_convex(&fill, OUTLINE_HALF_WIDTH)?;
+                is_polygon.then_some(TurnedOutline { fill, ring })
+            });
         BodyLook {
             outline,
             turns: body.turns,
+            turned,
             marker,
             points,
             fill: color(body.color, 1.0),
@@ -232,6 +263,25 @@ impl BodyLook {
     /// is, on pixel offsets (X, Y) from the centre, X' = cos θ·X + sin θ·Y and
     /// Y' = -sin θ·X + cos θ·Y.
     pub fn draw_turned(&self, pixmap: &mut Pixmap, x: f32, y: f32, theta: f64) {
+        self.draw_turned_with(pixmap, x, y, theta, false);
+    }
+
+    /// Draws a body that turns like [`BodyLook::draw_turned`], a convex outline (a box
+    /// or a convex polygon) through the scan converter: its fill has the bytes of
+    /// tiny-skia's path, and its stroke differs only by how the rounded corners are cut
+    /// into chords (`tests/integration/every_scene.rs` bounds the difference). Other
+    /// looks are drawn as paths.
+    pub fn draw_turned_fast(&self, pixmap: &mut Pixmap, x: f32, y: f32, theta: f64) {
+        self.draw_turned_with(pixmap, x, y, theta, true);
+    }
+
+    /// Returns true when [`BodyLook::draw_turned_fast`] draws this look through the
+    /// scan converter.
+    pub fn turns_fast(&self) -> bool {
+        self.turned.is_some()
+    }
+
+    fn draw_turned_with(&self, pixmap: &mut Pixmap, x: f32, y: f32, theta: f64, fast: bool) {
         if self.marker.is_some() {
             self.draw(pixmap, x, y);
             self.draw_orientation(pixmap, x, y, theta);
@@ -240,6 +290,17 @@ impl BodyLook {
         let (s, c) = theta.sin_cos();
         let (s, c) = (s as f32, c as f32);
         let at = Transform::from_row(c, -s, s, c, x, y);
+        if let (true, Some(turned)) = (fast, &self.turned) {
+            raster::fill_turned(
+                pixmap,
+                &turned.fill,
+                &turned.ring,
+                at,
+                Ink::of(self.fill),
+                Ink::of(self.edge),
+            );
+            return;
+        }
         if let Some(outline) = &self.outline {
             let mut paint = Paint {
                 anti_alias: true,
@@ -429,13 +490,11 @@ impl ArrowGeometry {
         let half = 0.5 * head;
         Some(ArrowGeometry {
             shaft: clip.segment((x, y), base),
-            head: clip.contains(tip.0, tip.1).then(|| {
-                [
-                    (tip.0 as f32, tip.1 as f32),
-                    ((base.0 - uy * half) as f32, (base.1 + ux * half) as f32),
-                    ((base.0 + uy * half) as f32, (base.1 - ux * half) as f32),
-                ]
-            }),
+            head: clip.contains(tip.0, tip.1).then_some([
+                (tip.0 as f32, tip.1 as f32),
+                ((base.0 - uy * half) as f32, (base.1 + ux * half) as f32),
+                ((base.0 + uy * half) as f32, (base.1 - ux * half) as f32),
+            ]),
         })
     }
 }
@@ -469,11 +528,11 @@ pub fn draw_arrow(
     if let Some((a, b)) = arrow.shaft {
         let ends = ((a.0 as f32, a.1 as f32), (b.0 as f32, b.1 as f32));
         if let Some(bar) = raster::bar(ends.0, ends.1, 0.5 * width) {
-            raster::fill_polygons(pixmap, &[&bar], ink);
+            raster::fill_convex(pixmap, &bar, ink);
         }
     }
     if let Some(head) = arrow.head {
-        raster::fill_polygons(pixmap, &[&head], ink);
+        raster::fill_convex(pixmap, &head, ink);
     }
 }
 

@@ -135,6 +135,10 @@ pub struct Renderer {
     /// Whether arrows and turning bodies take the fast paths (sprites, [`raster`]) or
     /// tiny-skia's paths, the reference they are tested against.
     drawing: BodyDrawing,
+    /// True when turning convex outlines are drawn by the scan converter: with the fast
+    /// paths, when at least [`SPRITE_MIN_BODIES`] bodies have them, so that scenes of a
+    /// few bodies are drawn exactly as their paths.
+    turning_fast: bool,
 }
 
 pub use looks::SPRITE_MIN_BODIES;
@@ -200,6 +204,12 @@ impl Renderer {
         };
         // Bodies that look alike share one look, wherever they stand in the file.
         let looks::Looks { looks, look_of } = looks::Looks::new(shown, &camera, drawing);
+        let turning_fast = drawing == BodyDrawing::Sprites
+            && look_of
+                .iter()
+                .filter(|&&l| looks[l as usize].body.turns_fast())
+                .count()
+                >= SPRITE_MIN_BODIES;
         let arrow_bodies = shown
             .iter()
             .enumerate()
@@ -222,6 +232,7 @@ impl Renderer {
             turning: scene.bodies.iter().any(|b| b.turns),
             duration: scene.frame_time(r.frame_count - 1).max(f64::MIN_POSITIVE),
             drawing,
+            turning_fast,
         }
     }
 
@@ -443,6 +454,11 @@ impl Renderer {
                 (Some(sprite), Some(theta)) => {
                     sprite.stamp(pixmap, x, y);
                     look.body.draw_orientation(pixmap, x, y, theta);
+                }
+                // A turning convex outline goes through the scan converter, when many
+                // bodies do.
+                (None, Some(theta)) if self.turning_fast => {
+                    look.body.draw_turned_fast(pixmap, x, y, theta)
                 }
                 (None, Some(theta)) => look.body.draw_turned(pixmap, x, y, theta),
                 (None, None) => look.body.draw(pixmap, x, y),

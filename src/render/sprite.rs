@@ -168,7 +168,12 @@ impl Ink {
     pub fn blend(&self, d: &mut [u8], c: u8) {
         let c = u16::from(c);
         let div255 = |v: u16| (v + 255) >> 8;
-        if self.opaque {
+        if self.opaque && c == 255 {
+            // div255(s·255) = s: the colour itself, without reading the pixel.
+            for (d, s) in d.iter_mut().zip(self.rgba) {
+                *d = s as u8;
+            }
+        } else if self.opaque {
             for (d, s) in d.iter_mut().zip(self.rgba) {
                 *d = div255(u16::from(*d) * (255 - c) + s * c) as u8;
             }

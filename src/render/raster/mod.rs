@@ -22,14 +22,23 @@
 //! difference that makes against tiny-skia's paths is bounded in
 //! `tests/integration/perf.rs`.
 //!
+//! `convex.rs` walks convex shapes quicker than the general scan here, and `shapes.rs`
+//! builds the polygons of strokes (a line's rectangle, a stroked outline's ring).
+//!
 //! Coordinates must be near the image: callers clip them to the guard band first, where
 //! the fixed-point arithmetic cannot overflow (tiny-skia's limit is 8191 pixels).
+
+mod convex;
+mod shapes;
 
 use std::cell::RefCell;
 
 use tiny_skia::Pixmap;
 
 use super::sprite::Ink;
+
+pub use convex::{fill_convex, fill_turned};
+pub use shapes::{bar, capsule, Ring};
 
 /// A point in pixels.
 pub type Point = (f32, f32);
@@ -103,17 +112,22 @@ pub fn fill_polygons(pixmap: &mut Pixmap, polygons: &[&[Point]], ink: Ink) {
         let scratch = &mut *scratch.borrow_mut();
         scratch.edges.clear();
         for points in polygons {
-            if points.len() < 3 || !points.iter().all(|p| p.0.is_finite() && p.1.is_finite()) {
-                continue;
-            }
-            let mut previous = points[points.len() - 1];
-            for &p in *points {
-                scratch.edges.extend(Edge::new(previous, p));
-                previous = p;
-            }
+            add_polygon(&mut scratch.edges, points);
         }
         scan(pixmap, scratch, ink);
     });
+}
+
+/// Adds the edges of a closed polygon, unless a point is not finite.
+fn add_polygon(edges: &mut Vec<Edge>, points: &[Point]) {
+    if points.len() < 3 || !points.iter().all(|p| p.0.is_finite() && p.1.is_finite()) {
+        return;
+    }
+    let mut previous = points[points.len() - 1];
+    for &p in points {
+        edges.extend(Edge::new(previous, p));
+        previous = p;
+    }
 }
 
 /// Fills the ring between two nested convex polygons, `outer` less `inner`, by filling
@@ -126,7 +140,7 @@ pub fn fill_ring(pixmap: &mut Pixmap, outer: &[Point], inner: &mut [Point], ink:
 }
 
 /// Twice the signed area of a polygon (the shoelace formula).
-fn signed_area(points: &[Point]) -> f64 {
+pub(super) fn signed_area(points: &[Point]) -> f64 {
     let n = points.len();
     (0..n)
         .map(|i| {
@@ -137,7 +151,7 @@ fn signed_area(points: &[Point]) -> f64 {
 }
 
 /// Scan-converts the edges sub-row by sub-row, as tiny-skia's `walk_edges` does for the
-/// nonzero rule, and blends each pixel row's coverage as it is finished.
+/// nonzero rule, and blends each pixel row's coverage in `ink` as it is finished.
 fn scan(pixmap: &mut Pixmap, scratch: &mut Scratch, ink: Ink) {
     let Scratch { edges, active, row } = scratch;
     if edges.is_empty() {
@@ -206,8 +220,8 @@ fn scan(pixmap: &mut Pixmap, scratch: &mut Scratch, ink: Ink) {
         }
         if lo < hi {
             let base = 4 * py * width;
-            for x in lo..hi.min(width) {
-                let c = std::mem::take(&mut row[x]);
+            for (x, c) in row.iter_mut().enumerate().take(hi.min(width)).skip(lo) {
+                let c = std::mem::take(c);
                 if c != 0 {
                     let k = base + 4 * x;
                     // Skia's runs cap a sum of 256 at 255: (a - (a >> 8)).
@@ -241,149 +255,6 @@ fn accumulate(row: &mut [u16], a: i64, b: i64, full: u16) {
     if fb != 0 {
         row[pb] += 16 * fb;
     }
-}
-
-/// Returns the rectangle that tiny-skia's stroker makes of a line from `a` to `b` with
-/// butt caps and half-width `h`, computed as it computes it (in f32, with its own
-/// normalisation), or nothing when the line has no direction.
-pub fn bar(a: Point, b: Point, h: f32) -> Option<[Point; 4]> {
-    let mut unit = tiny_skia::Point::zero();
-    if !unit.set_normalize(b.0 - a.0, b.1 - a.1) {
-        return None;
-    }
-    // The unit normal turned counter-clockwise, (x, y) -> (y, -x), times the radius.
-    let (nx, ny) = (unit.y * h, -unit.x * h);
-    Some([
-        (a.0 + nx, a.1 + ny),
-        (b.0 + nx, b.1 + ny),
-        (b.0 - nx, b.1 - ny),
-        (a.0 - nx, a.1 - ny),
-    ])
-}
-
-/// The largest angle, in radians, of the chords that a round join or cap is cut into:
-/// 15°, so that a chord lies within r·(1 - cos 7.5°) < 0.009·r of its arc (under
-/// 0.007 pixel for an outline's 0.75-pixel half-width).
-const CHORD: f64 = std::f64::consts::PI / 12.0;
-
-/// Appends the arc of radius `r` around `centre` from angle `from` to angle `to`
-/// (radians, the shorter way round), cut into chords of at most [`CHORD`].
-fn arc(out: &mut Vec<Point>, centre: (f64, f64), r: f64, from: f64, to: f64) {
-    let mut sweep = to - from;
-    while sweep > std::f64::consts::PI {
-        sweep -= std::f64::consts::TAU;
-    }
-    while sweep < -std::f64::consts::PI {
-        sweep += std::f64::consts::TAU;
-    }
-    let steps = (sweep.abs() / CHORD).ceil().max(1.0) as usize;
-    for k in 0..=steps {
-        let t = from + sweep * k as f64 / steps as f64;
-        out.push((
-            (centre.0 + r * t.cos()) as f32,
-            (centre.1 + r * t.sin()) as f32,
-        ));
-    }
-}
-
-/// Returns the outline of the disc of radius `r` swept along the segment from `a` to
-/// `b`: a line with round caps, its caps flattened into chords.
-pub fn capsule(a: (f64, f64), b: (f64, f64), r: f64, out: &mut Vec<Point>) {
-    out.clear();
-    let start = (b.1 - a.1).atan2(b.0 - a.0);
-    let quarter = std::f64::consts::FRAC_PI_2;
-    arc(out, b, r, start - quarter, start + quarter);
-    arc(out, a, r, start + quarter, start + 3.0 * quarter);
-}
-
-/// The two sides of a convex polygon's outline stroked `r` pixels each way with round
-/// joins: the outer side (the polygon grown by `r`, its corners rounded) and the inner
-/// one (the polygon shrunk by `r`), or no inner side when the polygon is too thin to
-/// have one. The stroke covers what lies inside the first and outside the second.
-#[derive(Clone, Debug)]
-pub struct Ring {
-    pub outer: Vec<Point>,
-    pub inner: Option<Vec<Point>>,
-}
-
-impl Ring {
-    /// Returns the ring of a convex polygon's outline, or `None` when the polygon is
-    /// not convex (or has no area).
-    pub fn of_convex(points: &[Point], r: f64) -> Option<Ring> {
-        let p: Vec<(f64, f64)> = points
-            .iter()
-            .map(|&(x, y)| (f64::from(x), f64::from(y)))
-            .collect();
-        let n = p.len();
-        if n < 3 {
-            return None;
-        }
-        let area = signed_area(points);
-        if area == 0.0 || !area.is_finite() {
-            return None;
-        }
-        // With the area's sign s, the outward normal of the edge a -> b is
-        // s·(dy, -dx)/|d| in these (y-down) coordinates; a convex polygon turns the
-        // same way at every corner.
-        let s = area.signum();
-        let mut normals = Vec::with_capacity(n);
-        for i in 0..n {
-            let (a, b) = (p[i], p[(i + 1) % n]);
-            let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-            let len = (dx * dx + dy * dy).sqrt();
-            if len == 0.0 {
-                return None;
-            }
-            normals.push((s * dy / len, -s * dx / len));
-        }
-        for i in 0..n {
-            let (m, k) = (normals[(i + n - 1) % n], normals[i]);
-            // The cross product of consecutive normals has the same sign at every
-            // corner of a convex polygon.
-            if s * (m.0 * k.1 - m.1 * k.0) > 1e-12 {
-                return None;
-            }
-        }
-        let mut outer = Vec::with_capacity(n * 8);
-        for i in 0..n {
-            let (m, k) = (normals[(i + n - 1) % n], normals[i]);
-            arc(&mut outer, p[i], r, m.1.atan2(m.0), k.1.atan2(k.0));
-        }
-        // The inner side: the polygon cut by every edge moved inward by r.
-        let mut inner = p;
-        for i in 0..n {
-            let (a, k) = (points[i], normals[i]);
-            let a = (f64::from(a.0), f64::from(a.1));
-            // Keep the points q with k·(q - a) ≤ -r.
-            let keep = |q: (f64, f64)| k.0 * (q.0 - a.0) + k.1 * (q.1 - a.1) + r;
-            inner = clip(&inner, keep);
-            if inner.len() < 3 {
-                break;
-            }
-        }
-        let inner = (inner.len() >= 3)
-            .then(|| inner.iter().map(|&(x, y)| (x as f32, y as f32)).collect())
-            .filter(|i: &Vec<Point>| signed_area(i).abs() > 1e-9);
-        Some(Ring { outer, inner })
-    }
-}
-
-/// Keeps the part of a convex polygon where `f` ≤ 0 (Sutherland–Hodgman against one
-/// line; `f` is affine).
-fn clip(points: &[(f64, f64)], f: impl Fn((f64, f64)) -> f64) -> Vec<(f64, f64)> {
-    let mut out = Vec::with_capacity(points.len() + 1);
-    for i in 0..points.len() {
-        let (a, b) = (points[i], points[(i + 1) % points.len()]);
-        let (fa, fb) = (f(a), f(b));
-        if fa <= 0.0 {
-            out.push(a);
-        }
-        if (fa < 0.0 && fb > 0.0) || (fa > 0.0 && fb < 0.0) {
-            let t = fa / (fa - fb);
-            out.push((a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1)));
-        }
-    }
-    out
 }
 
 #[cfg(test)]
