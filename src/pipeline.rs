@@ -27,6 +27,7 @@ use tiny_skia::Pixmap;
 
 use crate::render::fastpng::StaticPng;
 use crate::render::layers::TraceRecorder;
+use crate::render::trails::TrailLayer;
 use crate::render::{
     encode_png_into, ArrowScales, Compression, Damage, FrameView, Provenance, Renderer,
 };
@@ -287,6 +288,7 @@ fn render_full(
                     png: Vec::new(),
                     opaque,
                     static_png: static_png.as_ref(),
+                    trails: None,
                 };
                 for job in receiver {
                     if stop.load(Ordering::Relaxed) {
@@ -491,6 +493,8 @@ struct Buffers<'a> {
     opaque: bool,
     /// The static layer's compressed tiles, for the default compression.
     static_png: Option<&'a StaticPng>,
+    /// The static layer with the trails so far, when frames show trails.
+    trails: Option<TrailLayer>,
 }
 
 /// Draws, encodes and writes one frame, adding each stage's time to the clock.
@@ -517,7 +521,12 @@ fn draw_and_write(
         traces: job.traces.as_ref(),
         compare: job.compare.as_deref(),
     };
-    renderer.draw_damaged(&view, &mut buffers.pixmap, &mut buffers.damage);
+    renderer.draw_with_trails(
+        &view,
+        &mut buffers.pixmap,
+        &mut buffers.damage,
+        &mut buffers.trails,
+    );
     let drawn = StageClock::add(&clock.draw, started);
     let provenance = provenance(scene, integrator, job.t, job.index);
     match buffers.static_png {

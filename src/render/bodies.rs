@@ -10,7 +10,6 @@ use super::camera::Camera;
 use super::clip::ClipRect;
 use super::raster;
 use super::sprite::Ink;
-use crate::history::PointHistory;
 use crate::scene::{Body, Rgba, Shape};
 use crate::sim::rigid::rotate;
 
@@ -33,7 +32,6 @@ pub struct BodyLook {
     points: Option<(Path, Path)>,
     fill: Color,
     edge: Color,
-    trail: Color,
     /// A radius in pixels that encloses everything drawn for the body.
     reach: f32,
     /// For a turning body whose outline is convex (a box, a convex polygon), the
@@ -169,7 +167,6 @@ impl BodyLook {
             points,
             fill: color(body.color, 1.0),
             edge: color(darker(body.color), 1.0),
-            trail: color(body.color, 0.55),
             reach,
             show_velocity: body.show_velocity,
             show_force: body.show_force,
@@ -388,39 +385,6 @@ impl BodyLook {
             pixmap.stroke_path(discs, &paint, &Stroke::default(), at, None);
             draw_centre_of_mass_marker(pixmap, x, y);
         }
-    }
-
-    /// Draws the trail through the centre of mass at each earlier frame.
-    pub fn draw_trail(
-        &self,
-        pixmap: &mut Pixmap,
-        camera: &Camera,
-        clip: &ClipRect,
-        frames: &PointHistory,
-        body: usize,
-    ) {
-        if frames.len() < 2 {
-            return;
-        }
-        let points = frames.iter().map(|f| {
-            let (x, y) = camera.to_pixel_f64(f[body]);
-            (x, y)
-        });
-        let Some(path) = clip.polyline(points) else {
-            return;
-        };
-        let mut paint = Paint {
-            anti_alias: true,
-            ..Paint::default()
-        };
-        paint.set_color(self.trail);
-        let stroke = Stroke {
-            width: 1.5,
-            line_cap: LineCap::Round,
-            line_join: LineJoin::Round,
-            ..Stroke::default()
-        };
-        pixmap.stroke_path(&path, &paint, &stroke, Transform::identity(), None);
     }
 }
 

@@ -25,6 +25,7 @@ pub mod springs;
 pub mod sprite;
 pub mod text;
 pub mod ticks;
+pub mod trails;
 
 use glam::DVec2;
 use tiny_skia::{Color, Pixmap};
@@ -38,6 +39,7 @@ use crate::scene::Scene;
 use bodies::{draw_arrow, draw_arrow_path};
 use clip::ClipRect;
 use looks::Look;
+use trails::{TrailLayer, TrailStyle};
 
 /// The state of one frame, as the renderer sees it.
 #[derive(Clone, Copy, Debug)]
@@ -124,6 +126,8 @@ pub struct Renderer {
     /// The bodies that show a velocity or force arrow, in increasing order.
     arrow_bodies: Vec<u32>,
     arrows: ArrowScales,
+    /// The colours of the bodies' trails.
+    trails: TrailStyle,
     /// Axes, fields, curves, legend and HUD.
     overlay: layers::Overlay,
     /// The springs, when the scene shows them.
@@ -204,6 +208,8 @@ impl Renderer {
         };
         // Bodies that look alike share one look, wherever they stand in the file.
         let looks::Looks { looks, look_of } = looks::Looks::new(shown, &camera, drawing);
+        // Trails in each drawn body's colour at 55% opacity.
+        let trails = TrailStyle::new(shown.iter().map(|b| bodies::color(b.color, 0.55)));
         let turning_fast = drawing == BodyDrawing::Sprites
             && look_of
                 .iter()
@@ -227,6 +233,7 @@ impl Renderer {
             look_of,
             arrow_bodies,
             arrows,
+            trails,
             overlay,
             springs: springs::Springs::new(scene),
             turning: scene.bodies.iter().any(|b| b.turns),
@@ -296,8 +303,14 @@ impl Renderer {
     /// Draws one frame into a new pixmap.
     pub fn draw(&self, frame: &FrameView<'_>) -> Pixmap {
         let mut pixmap = self.static_layer.clone();
-        self.draw_moving(frame, &mut pixmap);
+        self.draw_into(frame, &mut pixmap);
         pixmap
+    }
+
+    /// Returns a new layer for the trails, when frames show trails: a worker keeps one
+    /// and hands it to [`Renderer::draw_with_trails`] with each frame it draws.
+    pub fn new_trail_layer(&self) -> TrailLayer {
+        TrailLayer::new(&self.static_layer)
     }
 
     /// Draws one frame into `pixmap`, which must have the frame's size (as from
@@ -315,14 +328,42 @@ impl Renderer {
     /// are drawn (over a static layer that may hold axes and fields), the whole frame
     /// otherwise. The pixels are those of [`Renderer::draw_into`], whatever the damage.
     pub fn draw_damaged(&self, frame: &FrameView<'_>, pixmap: &mut Pixmap, damage: &mut Damage) {
+        self.draw_with_trails(frame, pixmap, damage, &mut None);
+    }
+
+    /// Draws one frame like [`Renderer::draw_damaged`], bringing the worker's trail
+    /// layer `trails` (made when first needed) up to the frame when it shows trails, so
+    /// that only the segments since the worker's last frame are drawn. The pixels do
+    /// not depend on the layer's past: a fresh layer gives the same frame.
+    pub fn draw_with_trails(
+        &self,
+        frame: &FrameView<'_>,
+        pixmap: &mut Pixmap,
+        damage: &mut Damage,
+        trails: &mut Option<TrailLayer>,
+    ) {
         assert_eq!(
             (pixmap.width(), pixmap.height()),
             (self.width, self.height),
             "draw_into needs a pixmap the size of the frame"
         );
+        if let Some(history) = frame.trail {
+            // The frame starts from the static layer with the trails so far over it.
+            let layer = trails.get_or_insert_with(|| self.new_trail_layer());
+            layer.advance(
+                &self.trails,
+                &self.camera,
+                &self.clip,
+                &self.static_layer,
+                history,
+            );
+            pixmap.data_mut().copy_from_slice(layer.base().data());
+            damage.set_whole();
+            self.draw_moving(frame, pixmap);
+            return;
+        }
         self.restore(pixmap, damage);
-        let bodies_only = frame.trail.is_none()
-            && self.springs.is_none()
+        let bodies_only = self.springs.is_none()
             && frame.compare.is_none()
             && self.arrow_bodies.is_empty()
             && !self.overlay.draws_over_frames();
@@ -362,20 +403,10 @@ impl Renderer {
         }
     }
 
-    /// Draws everything that moves over a copy of the static layer: trails, springs,
-    /// then bodies in index order, then arrows.
+    /// Draws everything that moves over a copy of the static layer (with the trails
+    /// over it, when frames show trails): springs, then bodies in index order, then
+    /// arrows.
     fn draw_moving(&self, frame: &FrameView<'_>, pixmap: &mut Pixmap) {
-        if let Some(trail) = frame.trail {
-            for (i, &look) in self.look_of.iter().enumerate() {
-                self.looks[look as usize].body.draw_trail(
-                    pixmap,
-                    &self.camera,
-                    &self.clip,
-                    trail,
-                    i,
-                );
-            }
-        }
         if let Some(springs) = &self.springs {
             springs.draw(pixmap, &self.camera, &self.clip, frame.pos, frame.angle);
         }

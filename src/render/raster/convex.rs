@@ -16,7 +16,27 @@ pub fn fill_convex(pixmap: &mut Pixmap, points: &[Point], ink: Ink) {
     CONVEX.with(|c| {
         let c = &mut *c.borrow_mut();
         c.chains.set(points, &[]);
-        scan_convex(pixmap, &mut c.chains, ink);
+        blend_convex(pixmap, &mut c.chains, ink);
+    });
+}
+
+/// Calls `put(i, c)` with the coverage c > 0 of every pixel i (counted row after row in
+/// an image `width` × `height`) that a convex polygon covers, pixel by pixel within a
+/// row and row after row: the coverage [`fill_convex`] blends.
+pub fn cover_convex(width: u32, height: u32, points: &[Point], put: impl FnMut(usize, u8)) {
+    CONVEX.with(|c| {
+        let c = &mut *c.borrow_mut();
+        c.chains.set(points, &[]);
+        scan_convex(width as usize, height as usize, &mut c.chains, put);
+    });
+}
+
+/// Blends `ink` into the pixmap with the coverage of the chains' shape.
+fn blend_convex(pixmap: &mut Pixmap, chains: &mut Chains, ink: Ink) {
+    let (width, height) = (pixmap.width() as usize, pixmap.height() as usize);
+    let data = pixmap.data_mut();
+    scan_convex(width, height, chains, |i, c| {
+        ink.blend(&mut data[4 * i..4 * i + 4], c);
     });
 }
 
@@ -117,16 +137,16 @@ thread_local! {
     static CONVEX: RefCell<Convex> = RefCell::new(Convex::default());
 }
 
-/// Scan-converts a convex polygon less a convex hole sub-row by sub-row, and blends
-/// each pixel row's coverage in `ink` as it is finished. The spans are those tiny-skia
+/// Scan-converts a convex polygon less a convex hole sub-row by sub-row, in an image
+/// `width` × `height`, and hands each pixel row's coverage to `put` (pixel index,
+/// coverage) as it is finished. The spans are those tiny-skia
 /// finds with the nonzero rule: from the polygon's left crossing to the hole's, and
 /// from the hole's right crossing to the polygon's.
 ///
 /// A pixel row's coverage is summed from its (at most eight) spans of quarter-pixel
 /// columns pixel by pixel, as [`accumulate`] would sum them, except in the run of
 /// pixels that all four sub-rows cover whole (255), which is blended in one go.
-fn scan_convex(pixmap: &mut Pixmap, chains: &mut Chains, ink: Ink) {
-    let (width, height) = (pixmap.width() as usize, pixmap.height() as usize);
+fn scan_convex(width: usize, height: usize, chains: &mut Chains, mut put: impl FnMut(usize, u8)) {
     let max_column = 4 * width as i64;
     let (first, end) = chains.rows();
     let (first, end) = (first.max(0), end.min(4 * height as i64));
@@ -135,7 +155,6 @@ fn scan_convex(pixmap: &mut Pixmap, chains: &mut Chains, ink: Ink) {
     }
     let holed = !chains.chains[2].is_empty();
     let column = |v: i64| ((v + 0x8000) >> 16).clamp(0, max_column);
-    let data = pixmap.data_mut();
     let mut sy = first;
     while sy < end {
         let py = (sy >> 2) as usize;
@@ -215,7 +234,7 @@ fn scan_convex(pixmap: &mut Pixmap, chains: &mut Chains, ink: Ink) {
         // the hole between them, which is not visited.
         let spans = &mut spans[..n];
         spans.sort_unstable_by_key(|s| s.0);
-        let base = 4 * py * width;
+        let base = py * width;
         let mut k = 0;
         while k < n {
             let lo = spans[k].0 >> 2;
@@ -232,9 +251,8 @@ fn scan_convex(pixmap: &mut Pixmap, chains: &mut Chains, ink: Ink) {
             while x < hi {
                 if x == core_lo {
                     // Covered whole by all four sub-rows: 64·3 + 63 = 255.
-                    let pixels = &mut data[base + 4 * x as usize..base + 4 * core_hi as usize];
-                    for p in pixels.chunks_exact_mut(4) {
-                        ink.blend(p, 255);
+                    for i in base + x as usize..base + core_hi as usize {
+                        put(i, 255);
                     }
                     x = core_hi;
                     continue;
@@ -246,9 +264,8 @@ fn scan_convex(pixmap: &mut Pixmap, chains: &mut Chains, ink: Ink) {
                     c += if o == 4 { full } else { 16 * o as u16 };
                 }
                 if c != 0 {
-                    let k = base + 4 * x as usize;
                     // Skia's runs cap a sum of 256 at 255: (a - (a >> 8)).
-                    ink.blend(&mut data[k..k + 4], (c - (c >> 8)).min(255) as u8);
+                    put(base + x as usize, (c - (c >> 8)).min(255) as u8);
                 }
                 x += 1;
             }
@@ -290,9 +307,9 @@ pub fn fill_turned(
         CONVEX.with(|c| {
             let c = &mut *c.borrow_mut();
             c.chains.set(f, &[]);
-            scan_convex(pixmap, &mut c.chains, fill_ink);
+            blend_convex(pixmap, &mut c.chains, fill_ink);
             c.chains.set(o, i);
-            scan_convex(pixmap, &mut c.chains, edge_ink);
+            blend_convex(pixmap, &mut c.chains, edge_ink);
         });
     });
 }
