@@ -46,14 +46,36 @@ fn arc(out: &mut Vec<Point>, centre: (f64, f64), r: f64, from: f64, to: f64) {
     }
 }
 
+/// The turns of a round cap's chord ends from the line's direction, in steps of
+/// [`CHORD`] from -90° to +90°, as (cos, sin).
+const CAP: [(f64, f64); 7] = [
+    (0.0, -1.0),
+    (0.5, -0.866_025_403_784_438_6),
+    (0.866_025_403_784_438_6, -0.5),
+    (1.0, 0.0),
+    (0.866_025_403_784_438_6, 0.5),
+    (0.5, 0.866_025_403_784_438_6),
+    (0.0, 1.0),
+];
+
 /// Returns the outline of the disc of radius `r` swept along the segment from `a` to
-/// `b`: a line with round caps, its caps flattened into chords.
+/// `b`: a line with round caps, each cap's half circle cut into chords of [`CHORD`].
 pub fn capsule(a: (f64, f64), b: (f64, f64), r: f64, out: &mut Vec<Point>) {
     out.clear();
-    let start = (b.1 - a.1).atan2(b.0 - a.0);
-    let quarter = std::f64::consts::FRAC_PI_2;
-    arc(out, b, r, start - quarter, start + quarter);
-    arc(out, a, r, start + quarter, start + 3.0 * quarter);
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let len = (dx * dx + dy * dy).sqrt();
+    // The unit direction (any, for a dot) and the cap's points turned from it.
+    let (ux, uy) = if len > 0.0 {
+        (dx / len, dy / len)
+    } else {
+        (1.0, 0.0)
+    };
+    for (centre, sign) in [(b, 1.0), (a, -1.0)] {
+        for (c, s) in CAP {
+            let (x, y) = (sign * (ux * c - uy * s), sign * (uy * c + ux * s));
+            out.push(((centre.0 + r * x) as f32, (centre.1 + r * y) as f32));
+        }
+    }
 }
 
 /// The two sides of a convex polygon's outline stroked `r` pixels each way with round
