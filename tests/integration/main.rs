@@ -17,4 +17,5 @@ mod resume;
 mod rotation;
 mod shards;
 mod studies;
+mod uniform_step;
 mod util;
