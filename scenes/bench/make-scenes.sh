@@ -39,9 +39,10 @@ k = 0.05
 FOOT
 }
 
-# bodies COUNT SEED KIND: COUNT [[body]] tables; KIND is circles, arrows, mixed or turning.
+# bodies COUNT SEED KIND [RADIUS]: COUNT [[body]] tables; KIND is circles, arrows, mixed
+# or turning; circles and arrows have RADIUS (0.06 unless given).
 bodies() {
-    awk -v n="$1" -v seed="$2" -v kind="$3" '
+    awk -v n="$1" -v seed="$2" -v kind="$3" -v radius="${4:-0.06}" '
     function rnd() { x = (x * 16807) % 2147483647; return x / 2147483647 }
     function uniform(a, b) { return a + (b - a) * rnd() }
     BEGIN {
@@ -51,7 +52,7 @@ bodies() {
             vx = uniform(-0.3, 0.3); vy = uniform(-0.3, 0.3)
             printf "[[body]]\nmass = 1.0\nposition = [%.4f, %.4f]\nvelocity = [%.4f, %.4f]\n", px, py, vx, vy
             if (kind == "circles" || kind == "arrows") {
-                print "shape = { circle = { radius = 0.06 } }"
+                printf "shape = { circle = { radius = %s } }\n", radius
                 if (kind == "arrows") print "show_velocity = true"
             } else if (kind == "mixed") {
                 # Circles, boxes, triangles and pentagons of two sizes each, in an order
@@ -85,8 +86,8 @@ bodies() {
 } >bodies-1000.toml
 
 {
-    header bodies-10000 "10,000 moving discs, one [[body]] table each, in the default colour cycle." 10.0
-    bodies 10000 11 circles
+    header bodies-10000 "the 10,000 moving discs of circles-10000.toml (radius 0.03), one [[body]] table each, in the default colour cycle." 10.0
+    bodies 10000 11 circles 0.03
     footer
 } >bodies-10000.toml
 
