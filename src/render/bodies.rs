@@ -272,6 +272,30 @@ impl BodyLook {
         self.draw_turned_with(pixmap, x, y, theta, true);
     }
 
+    /// Returns the half-width and half-height, in pixels, of the box around everything
+    /// [`BodyLook::draw_turned_fast`] draws for a turning convex outline at `theta`:
+    /// the outline's points turned, grown by the stroke's half-width and a pixel of
+    /// anti-aliasing. `None` for other looks.
+    pub fn turned_extent(&self, theta: f64) -> Option<(f32, f32)> {
+        let turned = self.turned.as_ref()?;
+        let (s, c) = theta.sin_cos();
+        let (s, c) = (s as f32, c as f32);
+        let (mut ex, mut ey) = (0.0f32, 0.0f32);
+        for &(x, y) in &turned.fill {
+            // The turn of draw_turned: X' = c·X + s·Y, Y' = -s·X + c·Y.
+            ex = ex.max((c * x + s * y).abs());
+            ey = ey.max((c * y - s * x).abs());
+        }
+        let grow = OUTLINE_HALF_WIDTH as f32 + 1.0;
+        Some((ex + grow, ey + grow))
+    }
+
+    /// Returns a turning convex outline's points at angle 0 and the ring its stroke
+    /// covers, as [`BodyLook::draw_turned_fast`] draws them; `None` for other looks.
+    pub fn turned_outline(&self) -> Option<(&[raster::Point], &raster::Ring)> {
+        self.turned.as_ref().map(|t| (&t.fill[..], &t.ring))
+    }
+
     /// Returns true when [`BodyLook::draw_turned_fast`] draws this look through the
     /// scan converter.
     pub fn turns_fast(&self) -> bool {

@@ -10,7 +10,8 @@
 //! A sprite's coverage depends only on the geometry (the shape and its fixed angle),
 //! not on the colour, so it is keyed by geometry alone: looks that differ only in
 //! colour stamp the same coverage in their own inks, and a geometry is stamped once
-//! [`SPRITE_MIN_BODIES`] bodies share it, whatever their colours.
+//! [`SPRITE_MIN_BODIES`] bodies share it, whatever their colours. The same holds for
+//! the sprites of turning convex looks at angle bins ([`super::turning`]).
 
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -18,6 +19,7 @@ use std::sync::Arc;
 use super::bodies::BodyLook;
 use super::camera::Camera;
 use super::sprite::{SpriteCoverage, SpriteSheet};
+use super::turning::{TurningCoverage, TurningSheet};
 use super::BodyDrawing;
 use crate::scene::{Body, Shape};
 
@@ -30,6 +32,8 @@ pub const SPRITE_MIN_BODIES: usize = 16;
 pub struct Look {
     pub body: BodyLook,
     pub sprite: Option<SpriteSheet>,
+    /// For a turning convex look, its sprites at angle bins.
+    pub turning: Option<TurningSheet>,
 }
 
 /// The distinct looks of a scene's bodies, and the look of each body.
@@ -119,6 +123,7 @@ impl Looks {
                 looks.push(Look {
                     body: BodyLook::new(b, camera),
                     sprite: None,
+                    turning: None,
                 });
                 geometry_of.push(key.geometry);
                 next
@@ -129,7 +134,19 @@ impl Looks {
             // One coverage per geometry, rasterised for its first look and stamped in
             // each look's colours.
             let mut coverage: HashMap<&GeometryKey, Option<Arc<SpriteCoverage>>> = HashMap::new();
+            let mut turning: HashMap<&GeometryKey, Option<Arc<TurningCoverage>>> = HashMap::new();
             for (look, geometry) in looks.iter_mut().zip(&geometry_of) {
+                // A turning convex look that many bodies share is stamped at angle
+                // bins.
+                if look.body.turns_fast() && users[geometry] >= SPRITE_MIN_BODIES {
+                    let sheet = turning
+                        .entry(geometry)
+                        .or_insert_with(|| TurningCoverage::new(&look.body));
+                    look.turning = sheet
+                        .as_ref()
+                        .map(|c| TurningSheet::new(Arc::clone(c), &look.body));
+                    continue;
+                }
                 // A turning look is stamped only when turning adds a line over the
                 // same disc: a circle.
                 let stamps = !look.body.turns() || look.body.turns_by_marker();

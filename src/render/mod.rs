@@ -26,6 +26,7 @@ pub mod sprite;
 pub mod text;
 pub mod ticks;
 pub mod trails;
+pub mod turning;
 
 use glam::DVec2;
 use tiny_skia::{Color, Pixmap};
@@ -461,10 +462,34 @@ impl Renderer {
             // A body that turns is drawn at this frame's angle.
             let angle = frame.angle.filter(|_| look.body.turns()).map(|a| a[i]);
             if let Some(damage) = damage.as_deref_mut().filter(|d| !d.is_whole()) {
+                // A turning stamp changes exactly its sprite's rectangle.
+                if let (Some(sheet), Some(theta)) = (&look.turning, angle) {
+                    damage.add_rect(sheet.footprint(x, y, theta), self.width, self.height);
+                    sheet.stamp(pixmap, x, y, theta);
+                    continue;
+                }
                 match &look.sprite {
                     // A stamp changes exactly its sprite's rectangle.
                     Some(sprite) if angle.is_none() => {
                         damage.add_rect(sprite.footprint(x, y), self.width, self.height)
+                    }
+                    // A turning convex outline drawn by the scan converter lies in
+                    // the box of its turned points, grown for its stroke and
+                    // anti-aliasing; a pixel more is spare.
+                    _ if angle.is_some() && self.turning_fast && look.body.turns_fast() => {
+                        let theta = angle.unwrap_or(0.0);
+                        let (ex, ey) = look.body.turned_extent(theta).unwrap_or((0.0, 0.0));
+                        let (ex, ey) = (ex + 1.0, ey + 1.0);
+                        damage.add_rect(
+                            (
+                                (x - ex).floor() as i64,
+                                (y - ey).floor() as i64,
+                                (x + ex).ceil() as i64 + 1,
+                                (y + ey).ceil() as i64 + 1,
+                            ),
+                            self.width,
+                            self.height,
+                        )
                     }
                     // Everything drawn for a body lies within its reach of (x, y), at
                     // any angle; the margin covers the outline's half-width and
@@ -477,6 +502,10 @@ impl Renderer {
                         self.height,
                     ),
                 }
+            }
+            if let (Some(sheet), Some(theta)) = (&look.turning, angle) {
+                sheet.stamp(pixmap, x, y, theta);
+                continue;
             }
             match (&look.sprite, angle) {
                 (Some(sprite), None) => sprite.stamp(pixmap, x, y),

@@ -61,13 +61,13 @@ pub struct Ink {
 /// One phase of a look: coverage of the fill and of the outline for each pixel of the
 /// smallest rectangle that either touches.
 #[derive(Clone, Debug)]
-struct Sprite {
+pub(crate) struct Sprite {
     /// The offset of the sprite's top-left pixel from the whole-pixel part of the
     /// snapped position.
-    dx: i32,
-    dy: i32,
-    width: usize,
-    height: usize,
+    pub(crate) dx: i32,
+    pub(crate) dy: i32,
+    pub(crate) width: usize,
+    pub(crate) height: usize,
     /// (fill coverage, outline coverage) for each pixel, row after row.
     coverage: Vec<[u8; 2]>,
 }
@@ -191,8 +191,14 @@ impl Ink {
 /// q = round(x·PHASES), whole = ⌊q / PHASES⌋, phase = q mod PHASES.
 #[inline]
 fn snap(x: f32) -> (i64, u32) {
-    let q = (f64::from(x) * f64::from(PHASES)).round() as i64;
-    let p = i64::from(PHASES);
+    snap_to(x, PHASES)
+}
+
+/// Splits a pixel coordinate snapped to 1/`phases` into its whole pixel and phase.
+#[inline]
+pub(crate) fn snap_to(x: f32, phases: u32) -> (i64, u32) {
+    let q = (f64::from(x) * f64::from(phases)).round() as i64;
+    let p = i64::from(phases);
     (q.div_euclid(p), q.rem_euclid(p) as u32)
 }
 
@@ -200,7 +206,7 @@ impl Sprite {
     /// Keeps the smallest rectangle holding every pixel that the fill or the outline
     /// covers at all; (dx, dy) is where the pixmaps' top-left sits relative to the
     /// position they were drawn for.
-    fn trimmed(fill: &Pixmap, edge: &Pixmap, dx: i32, dy: i32) -> Sprite {
+    pub(crate) fn trimmed(fill: &Pixmap, edge: &Pixmap, dx: i32, dy: i32) -> Sprite {
         let (w, h) = (fill.width() as usize, fill.height() as usize);
         let coverage = |x: usize, y: usize| {
             let k = 4 * (y * w + x) + 3;
@@ -240,7 +246,7 @@ impl Sprite {
     }
 
     /// Blends the fill, then the outline, with the sprite's top-left pixel at (x, y).
-    fn stamp(&self, pixmap: &mut Pixmap, x: i64, y: i64, fill: Ink, edge: Ink) {
+    pub(crate) fn stamp(&self, pixmap: &mut Pixmap, x: i64, y: i64, fill: Ink, edge: Ink) {
         let (pw, ph) = (i64::from(pixmap.width()), i64::from(pixmap.height()));
         let (w, h) = (self.width as i64, self.height as i64);
         // The part of the sprite inside the pixmap: columns cx0..cx1, rows cy0..cy1.

@@ -291,6 +291,33 @@ pub fn fill_turned(
     fill_ink: Ink,
     edge_ink: Ink,
 ) {
+    turned(pixmap, None, fill, ring, at, [fill_ink, edge_ink]);
+}
+
+/// Draws a turned convex outline like [`fill_turned`], its fill into `fill_pixmap` and
+/// its stroke into `edge_pixmap`, both in `ink`: with opaque white over transparent
+/// pixmaps, the alpha of each is the coverage, as sprites keep it.
+pub fn fill_turned_apart(
+    fill_pixmap: &mut Pixmap,
+    edge_pixmap: &mut Pixmap,
+    fill: &[Point],
+    ring: &Ring,
+    at: tiny_skia::Transform,
+    ink: Ink,
+) {
+    turned(fill_pixmap, Some(edge_pixmap), fill, ring, at, [ink, ink]);
+}
+
+/// The fill of [`fill_turned`] into `pixmap`, then the stroke into `edge_pixmap` or,
+/// without one, over the fill.
+fn turned(
+    pixmap: &mut Pixmap,
+    edge_pixmap: Option<&mut Pixmap>,
+    fill: &[Point],
+    ring: &Ring,
+    at: tiny_skia::Transform,
+    [fill_ink, edge_ink]: [Ink; 2],
+) {
     TURNED.with(|buffers| {
         let (scratch, [f, o, i]) = &mut *buffers.borrow_mut();
         let mut place = |from: &[Point], to: &mut Vec<Point>| {
@@ -309,7 +336,7 @@ pub fn fill_turned(
             c.chains.set(f, &[]);
             blend_convex(pixmap, &mut c.chains, fill_ink);
             c.chains.set(o, i);
-            blend_convex(pixmap, &mut c.chains, edge_ink);
+            blend_convex(edge_pixmap.unwrap_or(pixmap), &mut c.chains, edge_ink);
         });
     });
 }

@@ -37,7 +37,7 @@ use tiny_skia::Pixmap;
 
 use super::sprite::Ink;
 
-pub use convex::{cover_convex, fill_convex, fill_turned};
+pub use convex::{cover_convex, fill_convex, fill_turned, fill_turned_apart};
 pub use shapes::{bar, capsule, Ring};
 
 /// A point in pixels.
