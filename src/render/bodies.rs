@@ -1,4 +1,4 @@
-//! The moving layers: trails, bodies, and velocity and force arrows.
+//! The moving layers: bodies, and velocity and force arrows.
 
 use glam::DVec2;
 use tiny_skia::{

@@ -2,13 +2,16 @@
 //!
 //! Rendering reads simulation state and never changes it. Everything that does not
 //! move (the background, and later axes and fields) is drawn once per render into a
-//! static layer that each frame starts from; everything that moves (trails, bodies,
-//! arrows) is drawn over it. Geometry is f64 in the world and f32 in pixels.
+//! static layer that each frame starts from; everything that moves (bodies, arrows) is
+//! drawn over it, and trails over a worker's copy of it that gains each frame's new
+//! segments ([`trails`]). Geometry is f64 in the world and f32 in pixels.
 //!
 //! Drawing skips what a frame does not show: bodies outside the image are not drawn,
-//! bodies that look alike share one prepared look, and small looks that many bodies
-//! share are stamped from pre-rendered sprites ([`sprite`]) instead of being
-//! rasterised body by body.
+//! bodies that look alike share one prepared look wherever they stand in the file
+//! ([`looks`]), small geometries that many bodies share are stamped from pre-rendered
+//! sprites ([`sprite`], and [`turning`] at angle bins) instead of being rasterised
+//! body by body, and arrows and other turning outlines are filled by a scan converter
+//! without tiny-skia's set-up per path ([`raster`]).
 
 pub mod bodies;
 pub mod camera;
