@@ -9,7 +9,7 @@ use super::shapes::Ring;
 use super::{Edge, Point};
 use crate::render::sprite::Ink;
 
-/// Fills a convex polygon with `ink`, like [`fill_polygons`] with one polygon (the same
+/// Fills a convex polygon with `ink`, like [`super::fill_polygons`] with one polygon (the same
 /// bytes) but quicker: a convex polygon crosses each sub-row at one edge going down and
 /// one going up, so the two chains are walked instead of sorting edges.
 pub fn fill_convex(pixmap: &mut Pixmap, points: &[Point], ink: Ink) {

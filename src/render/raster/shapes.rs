@@ -60,7 +60,7 @@ const CAP: [(f64, f64); 7] = [
 ];
 
 /// Returns the outline of the disc of radius `r` swept along the segment from `a` to
-/// `b`: a line with round caps, each cap's half circle cut into chords of [`CHORD`].
+/// `b`: a line with round caps, each cap's half circle cut into six 30° chords.
 pub fn capsule(a: (f64, f64), b: (f64, f64), r: f64, out: &mut Vec<Point>) {
     out.clear();
     let (dx, dy) = (b.0 - a.0, b.1 - a.1);
