@@ -228,12 +228,13 @@ pub fn run(args: BenchArgs) -> Result<()> {
             ));
         }
     }
-    match reference {
-        Some(i) => table.push_str(&format!(
+    match (reference, &args.reference) {
+        (Some(i), _) => table.push_str(&format!(
             "ratio: frames/s over those of {} in this run\n",
             loaded[i].name
         )),
-        None => table.push_str(&format!(
+        (None, Some(_)) => table.push_str("ratio: none (--reference none)\n"),
+        (None, None) => table.push_str(&format!(
             "ratio: none, for {REFERENCE} is not here; give --reference SCENE\n"
         )),
     }
