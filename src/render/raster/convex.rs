@@ -233,14 +233,21 @@ fn scan_convex(width: usize, height: usize, chains: &mut Chains, mut put: impl F
         // The pixels the spans touch, as disjoint runs: a ring's row is two runs with
         // the hole between them, which is not visited.
         let spans = &mut spans[..n];
-        spans.sort_unstable_by_key(|s| s.0);
+        // Without a hole a row's spans are one run (pixels between two of them, if
+        // any, have no coverage and are skipped below); with one, they are sorted and
+        // merged into runs, so that the hole is not visited.
+        if holed {
+            spans.sort_unstable_by_key(|s| s.0);
+        }
         let base = py * width;
         let mut k = 0;
         while k < n {
             let lo = spans[k].0 >> 2;
             let mut hi = (spans[k].1 + 3) >> 2;
+            let mut lo = lo;
             let mut j = k + 1;
-            while j < n && spans[j].0 >> 2 <= hi {
+            while j < n && (!holed || spans[j].0 >> 2 <= hi) {
+                lo = lo.min(spans[j].0 >> 2);
                 hi = hi.max((spans[j].1 + 3) >> 2);
                 j += 1;
             }
