@@ -5,7 +5,8 @@
 //! at most about as large: three frame buffers. Add the static layer every frame
 //! starts from, and, with trails, the positions of every body at every frame, held once
 //! and shared by the frames queued between the simulation and the threads (each holds a
-//! pointer and a length, whatever its index). When that exceeds the
+//! pointer and a length, whatever its index), and each thread's trail layer: the static
+//! layer with the trails over it, and 5 bytes a pixel of what holds each pixel. When that exceeds the
 //! memory available, physframes refuses to start and says what would fit.
 //!
 //! The memory available is `MemAvailable` from `/proc/meminfo` on Linux, lowered to a
@@ -42,10 +43,12 @@ impl Estimate {
         } else {
             0
         };
+        // A thread's trail layer: a frame, a coverage byte and a 4-byte colour a pixel.
+        let layer = if r.trails { frame + frame / 4 * 5 } else { 0 };
         Estimate {
             frame,
             fixed: frame + trails,
-            per_thread: BUFFERS_PER_THREAD * frame,
+            per_thread: BUFFERS_PER_THREAD * frame + layer,
         }
     }
 
@@ -194,9 +197,9 @@ mod tests {
         let frames = s.render.frame_count;
         assert!(frames > 3000, "{frames} frames");
         let e = Estimate::of(&s);
-        // The frames share one history: a thread adds its buffers and nothing that grows
-        // with the number of frames.
-        assert_eq!(e.per_thread, 3 * 64 * 48 * 4);
+        // The frames share one history: a thread adds its buffers and its trail layer,
+        // and nothing that grows with the number of frames.
+        assert_eq!(e.per_thread, 3 * 64 * 48 * 4 + 64 * 48 * (4 + 5));
         // Two bodies' positions, the pointer's header and its slot for every frame; the
         // slot is no larger than the estimate says.
         let slot = std::mem::size_of::<std::sync::OnceLock<std::sync::Arc<[glam::DVec2]>>>();

@@ -27,6 +27,7 @@ use tiny_skia::Pixmap;
 
 use crate::render::fastpng::StaticPng;
 use crate::render::layers::TraceRecorder;
+use crate::render::trails::TrailLayer;
 use crate::render::{
     encode_png_into, ArrowScales, Compression, Damage, FrameView, Provenance, Renderer,
 };
@@ -67,6 +68,24 @@ pub struct RenderExtras {
 pub struct RenderReport {
     pub manifest: Manifest,
     pub manifest_path: PathBuf,
+    /// What the first and the last frames drawn cost, to show whether a late frame
+    /// costs more than an early one (as redrawing every trail whole would).
+    pub edge_costs: EdgeCosts,
+}
+
+/// How many frames at each end of a render [`EdgeCosts`] sums.
+pub const EDGE_FRAMES: u64 = 100;
+
+/// The seconds that drawing, encoding and writing took for the first and for the last
+/// [`EDGE_FRAMES`] frames of the range asked for (fewer when the range is shorter, and
+/// the two overlap when it holds fewer than twice as many), summed over the frames, so
+/// that the two compare whatever the number of threads.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct EdgeCosts {
+    /// Frames at each end that the sums cover.
+    pub frames: u64,
+    pub first_s: f64,
+    pub last_s: f64,
 }
 
 /// One frame's snapshot, handed from the simulation to a worker.
@@ -93,6 +112,9 @@ struct StageClock {
     draw: AtomicU64,
     encode: AtomicU64,
     write: AtomicU64,
+    /// Draw, encode and write of the first and last [`EDGE_FRAMES`] frames.
+    first: AtomicU64,
+    last: AtomicU64,
 }
 
 impl StageClock {
@@ -100,6 +122,18 @@ impl StageClock {
         let now = Instant::now();
         counter.fetch_add((now - since).as_nanos() as u64, Ordering::Relaxed);
         now
+    }
+
+    /// Adds one frame's whole cost, from `since`, to the sums of the ends of `range` it
+    /// belongs to.
+    fn add_edges(&self, range: &Range<u64>, index: u64, since: Instant) {
+        let nanos = since.elapsed().as_nanos() as u64;
+        if index < range.start.saturating_add(EDGE_FRAMES) {
+            self.first.fetch_add(nanos, Ordering::Relaxed);
+        }
+        if index >= range.end.saturating_sub(EDGE_FRAMES) {
+            self.last.fetch_add(nanos, Ordering::Relaxed);
+        }
     }
 }
 
@@ -243,6 +277,7 @@ fn render_full(
     std::thread::scope(|scope| {
         for _ in 0..threads {
             let receiver = receiver.clone();
+            let range = &range;
             let (renderer, clock, stop, first_error, written, progress, static_png) = (
                 &renderer,
                 &clock,
@@ -261,12 +296,14 @@ fn render_full(
                     png: Vec::new(),
                     opaque,
                     static_png: static_png.as_ref(),
+                    trails: None,
                 };
                 for job in receiver {
                     if stop.load(Ordering::Relaxed) {
                         continue;
                     }
-                    match draw_and_write(
+                    let started = Instant::now();
+                    let done = draw_and_write(
                         scene,
                         integrator,
                         renderer,
@@ -275,7 +312,9 @@ fn render_full(
                         options,
                         clock,
                         &mut buffers,
-                    ) {
+                    );
+                    clock.add_edges(range, job.index, started);
+                    match done {
                         Ok(()) => {
                             written.fetch_add(1, Ordering::Relaxed);
                             progress.inc(1);
@@ -456,6 +495,11 @@ fn render_full(
     Ok(RenderReport {
         manifest,
         manifest_path,
+        edge_costs: EdgeCosts {
+            frames: EDGE_FRAMES.min(range.end - range.start),
+            first_s: nanos(&clock.first),
+            last_s: nanos(&clock.last),
+        },
     })
 }
 
@@ -469,6 +513,8 @@ struct Buffers<'a> {
     opaque: bool,
     /// The static layer's compressed tiles, for the default compression.
     static_png: Option<&'a StaticPng>,
+    /// The static layer with the trails so far, when frames show trails.
+    trails: Option<TrailLayer>,
 }
 
 /// Draws, encodes and writes one frame, adding each stage's time to the clock.
@@ -495,7 +541,12 @@ fn draw_and_write(
         traces: job.traces.as_ref(),
         compare: job.compare.as_deref(),
     };
-    renderer.draw_damaged(&view, &mut buffers.pixmap, &mut buffers.damage);
+    renderer.draw_with_trails(
+        &view,
+        &mut buffers.pixmap,
+        &mut buffers.damage,
+        &mut buffers.trails,
+    );
     let drawn = StageClock::add(&clock.draw, started);
     let provenance = provenance(scene, integrator, job.t, job.index);
     match buffers.static_png {

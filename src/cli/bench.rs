@@ -5,7 +5,12 @@
 //! in memory) nor find other runs' files where they write. With `--out DIR` the folders
 //! are made inside DIR and the last run's frames are kept as `DIR/<scene name>/`. The
 //! median run is reported, with the time per frame of each stage as the manifest
-//! records it. `--simulate-only` times the simulation alone, stepping the
+//! records it. The scenes run round by round, each once a round, so that a change in
+//! the machine's speed falls on all of them; each one's frame rate is also given as a
+//! ratio to the reference scene's (`circles-1000` unless `--reference` says otherwise)
+//! measured in the same rounds, which compares across runs on a shared machine where
+//! absolute rates do not. Scenes with trails also give what their first and last
+//! hundred frames cost, which should be alike. `--simulate-only` times the simulation alone, stepping the
 //! scene's `Simulation` from t = 0 to its last frame with nothing drawn or written, and
 //! reports nanoseconds per body-step; for a scene of explicit Euler under gravity and
 //! linear drag on equal masses, it times the hand-written loop of the same physics
@@ -18,7 +23,7 @@ use clap::Args;
 
 use super::{parse_frames, SceneArgs};
 use crate::error::{Error, Result};
-use crate::pipeline::{self, RenderOptions};
+use crate::pipeline::{self, EdgeCosts, RenderOptions};
 use crate::render::Compression;
 use crate::scene::Scene;
 use crate::sim::HandWrittenEuler;
@@ -53,6 +58,11 @@ pub struct BenchArgs {
     /// Use this integrator instead of each scene's.
     #[arg(long, value_name = "NAME")]
     integrator: Option<String>,
+    /// The scene whose frame rate the ratio column divides by, measured in the same
+    /// run (added to the scenes when not among them), or `none` [default:
+    /// scenes/bench/circles-1000.toml when it is there].
+    #[arg(long, value_name = "SCENE")]
+    reference: Option<PathBuf>,
 }
 
 /// One rendering run's figures.
@@ -63,6 +73,8 @@ struct RenderRun {
     /// threads).
     stages: [f64; 4],
     bytes_per_frame: f64,
+    /// What the first and last hundred frames cost.
+    edges: EdgeCosts,
 }
 
 pub fn run(args: BenchArgs) -> Result<()> {
@@ -94,76 +106,154 @@ pub fn run(args: BenchArgs) -> Result<()> {
             "{:<28} {:>9} {:>7} {:>12} {:>16}\n",
             "scene", "bodies", "steps", "seconds", "ns/body-step"
         ));
-    } else {
-        out.push_str(&format!(
-            "{:<28} {:>9} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9} {:>11}\n",
-            "scene",
-            "bodies",
-            "frames",
-            "frames/s",
-            "sim ms",
-            "draw ms",
-            "enc ms",
-            "write ms",
-            "bytes/frame"
-        ));
-        out.push_str(&format!(
-            "{:<28} {:>9} {:>6} {:>9} {:>39} {:>11}\n",
-            "", "", "", "", "(per frame, summed over threads)", ""
-        ));
-    }
-    super::say(&out)?;
-    for path in &scenes {
-        let scene = SceneArgs {
-            scene: path.clone(),
-            integrator: args.integrator.clone(),
-            set: Vec::new(),
+        super::say(&out)?;
+        for path in &scenes {
+            let scene = load(path, &args)?;
+            super::say(&simulate_line(&scene, threads, args.repeat)?)?;
         }
-        .load()?;
-        let line = if args.simulate_only {
-            simulate_line(&scene, threads, args.repeat)?
-        } else {
-            let frames = args
-                .frames
-                .as_deref()
-                .map(|f| parse_frames(f, scene.render.frame_count))
-                .transpose()?;
-            // The last run's frames are kept, when --out is given.
-            let kept = args.out.as_ref().map(|dir| dir.join(&scene.name));
-            if let Some(kept) = &kept {
-                check_replaceable(kept)?;
-            }
-            let mut runs = Vec::with_capacity(args.repeat);
-            for i in 0..args.repeat {
-                let keep_as = kept.as_deref().filter(|_| i + 1 == args.repeat);
-                runs.push(render_once(
-                    &scene,
-                    &args,
-                    threads,
-                    compression,
-                    frames.clone(),
-                    keep_as,
-                )?);
-            }
-            runs.sort_by(|a, b| a.wall_s.total_cmp(&b.wall_s));
-            let m = &runs[runs.len() / 2];
-            let ms = |s: f64| s * 1e3;
-            format!(
-                "{:<28} {:>9} {:>6} {:>9.1} {:>9.3} {:>9.3} {:>9.3} {:>9.3} {:>11.0}\n",
-                scene.name,
-                scene.bodies.len(),
-                m.frames,
-                m.frames as f64 / m.wall_s,
-                ms(m.stages[0]),
-                ms(m.stages[1]),
-                ms(m.stages[2]),
-                ms(m.stages[3]),
-                m.bytes_per_frame
-            )
-        };
-        super::say(&line)?;
+        return Ok(());
     }
+    // The reference scene, when there is one, is measured with the others.
+    let reference = match &args.reference {
+        Some(r) if r.as_os_str() == "none" => None,
+        Some(r) => Some(r.clone()),
+        None => Some(PathBuf::from(REFERENCE)).filter(|p| p.is_file()),
+    };
+    let mut loaded = Vec::with_capacity(scenes.len() + 1);
+    for path in &scenes {
+        loaded.push(load(path, &args)?);
+    }
+    let listed = |name: &str| loaded.iter().position(|s: &Scene| s.name == name);
+    let reference = match reference {
+        Some(path) => {
+            let scene = load(&path, &args)?;
+            Some(match listed(&scene.name) {
+                Some(i) => i,
+                None => {
+                    loaded.insert(0, scene);
+                    0
+                }
+            })
+        }
+        None => None,
+    };
+    out.push_str(&format!(
+        "{:<28} {:>9} {:>6} {:>9} {:>7} {:>9} {:>9} {:>9} {:>9} {:>11}\n",
+        "scene",
+        "bodies",
+        "frames",
+        "frames/s",
+        "ratio",
+        "sim ms",
+        "draw ms",
+        "enc ms",
+        "write ms",
+        "bytes/frame"
+    ));
+    out.push_str(&format!(
+        "{:<28} {:>9} {:>6} {:>9} {:>7} {:>39} {:>11}\n",
+        "", "", "", "", "", "(per frame, summed over threads)", ""
+    ));
+    super::say(&out)?;
+    let mut plans = Vec::with_capacity(loaded.len());
+    for scene in &loaded {
+        let frames = args
+            .frames
+            .as_deref()
+            .map(|f| parse_frames(f, scene.render.frame_count))
+            .transpose()?;
+        // The last run's frames are kept, when --out is given.
+        let kept = args.out.as_ref().map(|dir| dir.join(&scene.name));
+        if let Some(kept) = &kept {
+            check_replaceable(kept)?;
+        }
+        plans.push((frames, kept));
+    }
+    // Round by round, every scene once a round, so that a change in the machine's
+    // speed during the bench falls on every scene, the reference included.
+    let mut runs: Vec<Vec<RenderRun>> = loaded.iter().map(|_| Vec::new()).collect();
+    for round in 0..args.repeat {
+        for ((scene, (frames, kept)), runs) in loaded.iter().zip(&plans).zip(&mut runs) {
+            let keep_as = kept.as_deref().filter(|_| round + 1 == args.repeat);
+            runs.push(render_once(
+                scene,
+                &args,
+                threads,
+                compression,
+                frames.clone(),
+                keep_as,
+            )?);
+        }
+    }
+    let medians: Vec<RenderRun> = runs
+        .into_iter()
+        .map(|mut runs| {
+            runs.sort_by(|a, b| a.wall_s.total_cmp(&b.wall_s));
+            runs.swap_remove(runs.len() / 2)
+        })
+        .collect();
+    let rate = |m: &RenderRun| m.frames as f64 / m.wall_s;
+    let reference_rate = reference.map(|i| rate(&medians[i]));
+    let mut table = String::new();
+    for (i, (scene, m)) in loaded.iter().zip(&medians).enumerate() {
+        let ms = |s: f64| s * 1e3;
+        let ratio = reference_rate.map_or("-".to_string(), |r| format!("{:.2}", rate(m) / r));
+        table.push_str(&format!(
+            "{:<28} {:>9} {:>6} {:>9.1} {:>7} {:>9.3} {:>9.3} {:>9.3} {:>9.3} {:>11.0}{}\n",
+            scene.name,
+            scene.bodies.len(),
+            m.frames,
+            rate(m),
+            ratio,
+            ms(m.stages[0]),
+            ms(m.stages[1]),
+            ms(m.stages[2]),
+            ms(m.stages[3]),
+            m.bytes_per_frame,
+            if Some(i) == reference {
+                "  (reference)"
+            } else {
+                ""
+            }
+        ));
+        // With trails, whether a late frame costs more than an early one.
+        if scene.render.trails {
+            let e = &m.edges;
+            table.push_str(&format!(
+                "  first {} frames {:.1} ms, last {} frames {:.1} ms (draw, encode, write)\n",
+                e.frames,
+                ms(e.first_s),
+                e.frames,
+                ms(e.last_s)
+            ));
+        }
+    }
+    match (reference, &args.reference) {
+        (Some(i), _) => table.push_str(&format!(
+            "ratio: frames/s over those of {} in this run\n",
+            loaded[i].name
+        )),
+        (None, Some(_)) => table.push_str("ratio: none (--reference none)\n"),
+        (None, None) => table.push_str(&format!(
+            "ratio: none, for {REFERENCE} is not here; give --reference SCENE\n"
+        )),
+    }
+    super::say(&table)?;
     Ok(())
+}
+
+/// The scene whose frame rate the others' are divided by, when `--reference` is not
+/// given and the file is there.
+const REFERENCE: &str = "scenes/bench/circles-1000.toml";
+
+/// Loads a scene as bench measures it: with the integrator asked for, no overrides.
+fn load(path: &Path, args: &BenchArgs) -> Result<Scene> {
+    SceneArgs {
+        scene: path.to_path_buf(),
+        integrator: args.integrator.clone(),
+        set: Vec::new(),
+    }
+    .load()
 }
 
 /// Returns every `.toml` file in `scenes/` and `scenes/bench/`, sorted.
@@ -261,6 +351,7 @@ fn render_once(
             t.write_s / n,
         ],
         bytes_per_frame: bytes as f64 / n,
+        edges: report.edge_costs,
     };
     let BenchFolder { dir, _listed } = folder;
     match keep_as {

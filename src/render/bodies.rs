@@ -1,4 +1,4 @@
-//! The moving layers: trails, bodies, and velocity and force arrows.
+//! The moving layers: bodies, and velocity and force arrows.
 
 use glam::DVec2;
 use tiny_skia::{
@@ -8,7 +8,8 @@ use tiny_skia::{
 
 use super::camera::Camera;
 use super::clip::ClipRect;
-use crate::history::PointHistory;
+use super::raster;
+use super::sprite::Ink;
 use crate::scene::{Body, Rgba, Shape};
 use crate::sim::rigid::rotate;
 
@@ -31,12 +32,26 @@ pub struct BodyLook {
     points: Option<(Path, Path)>,
     fill: Color,
     edge: Color,
-    trail: Color,
     /// A radius in pixels that encloses everything drawn for the body.
     reach: f32,
+    /// For a turning body whose outline is convex (a box, a convex polygon), the
+    /// outline and its stroke prepared for the scan converter.
+    turned: Option<TurnedOutline>,
     pub show_velocity: bool,
     pub show_force: bool,
 }
+
+/// A turning convex outline as [`raster`] draws it: the outline's points at angle 0 as
+/// tiny-skia's path holds them, and the ring its stroke covers, turned and placed at
+/// each frame by the transform tiny-skia would apply to the paths.
+#[derive(Clone, Debug)]
+struct TurnedOutline {
+    fill: Vec<raster::Point>,
+    ring: raster::Ring,
+}
+
+/// Half the width of every outline's stroke, in pixels.
+const OUTLINE_HALF_WIDTH: f64 = 0.75;
 
 /// Returns a colour from straight RGBA bytes, with alpha scaled by `alpha`.
 pub fn color(c: Rgba, alpha: f32) -> Color {
@@ -129,14 +144,29 @@ impl BodyLook {
                 reach = reach.max(6.0);
             }
         }
+        // A turning outline that is convex is drawn by the scan converter.
+        let turned = outline
+            .as_ref()
+            .filter(|_| body.turns && points.is_none())
+            .and_then(|path| {
+                let fill: Vec<raster::Point> = path.points().iter().map(|p| (p.x, p.y)).collect();
+                let is_polygon = path.segments().all(|s| {
+                    matches!(
+                        s,
+                        PathSegment::MoveTo(_) | PathSegment::LineTo(_) | PathSegment::Close
+                    )
+                });
+                let ring = raster::Ring::of_convex(&fill, OUTLINE_HALF_WIDTH)?;
+                is_polygon.then_some(TurnedOutline { fill, ring })
+            });
         BodyLook {
             outline,
             turns: body.turns,
+            turned,
             marker,
             points,
             fill: color(body.color, 1.0),
             edge: color(darker(body.color), 1.0),
-            trail: color(body.color, 0.55),
             reach,
             show_velocity: body.show_velocity,
             show_force: body.show_force,
@@ -230,6 +260,49 @@ impl BodyLook {
     /// is, on pixel offsets (X, Y) from the centre, X' = cos θ·X + sin θ·Y and
     /// Y' = -sin θ·X + cos θ·Y.
     pub fn draw_turned(&self, pixmap: &mut Pixmap, x: f32, y: f32, theta: f64) {
+        self.draw_turned_with(pixmap, x, y, theta, false);
+    }
+
+    /// Draws a body that turns like [`BodyLook::draw_turned`], a convex outline (a box
+    /// or a convex polygon) through the scan converter: its fill has the bytes of
+    /// tiny-skia's path, and its stroke differs only by how the rounded corners are cut
+    /// into chords (`tests/integration/every_scene.rs` bounds the difference). Other
+    /// looks are drawn as paths.
+    pub fn draw_turned_fast(&self, pixmap: &mut Pixmap, x: f32, y: f32, theta: f64) {
+        self.draw_turned_with(pixmap, x, y, theta, true);
+    }
+
+    /// Returns the half-width and half-height, in pixels, of the box around everything
+    /// [`BodyLook::draw_turned_fast`] draws for a turning convex outline at `theta`:
+    /// the outline's points turned, grown by the stroke's half-width and a pixel of
+    /// anti-aliasing. `None` for other looks.
+    pub fn turned_extent(&self, theta: f64) -> Option<(f32, f32)> {
+        let turned = self.turned.as_ref()?;
+        let (s, c) = theta.sin_cos();
+        let (s, c) = (s as f32, c as f32);
+        let (mut ex, mut ey) = (0.0f32, 0.0f32);
+        for &(x, y) in &turned.fill {
+            // The turn of draw_turned: X' = c·X + s·Y, Y' = -s·X + c·Y.
+            ex = ex.max((c * x + s * y).abs());
+            ey = ey.max((c * y - s * x).abs());
+        }
+        let grow = OUTLINE_HALF_WIDTH as f32 + 1.0;
+        Some((ex + grow, ey + grow))
+    }
+
+    /// Returns a turning convex outline's points at angle 0 and the ring its stroke
+    /// covers, as [`BodyLook::draw_turned_fast`] draws them; `None` for other looks.
+    pub fn turned_outline(&self) -> Option<(&[raster::Point], &raster::Ring)> {
+        self.turned.as_ref().map(|t| (&t.fill[..], &t.ring))
+    }
+
+    /// Returns true when [`BodyLook::draw_turned_fast`] draws this look through the
+    /// scan converter.
+    pub fn turns_fast(&self) -> bool {
+        self.turned.is_some()
+    }
+
+    fn draw_turned_with(&self, pixmap: &mut Pixmap, x: f32, y: f32, theta: f64, fast: bool) {
         if self.marker.is_some() {
             self.draw(pixmap, x, y);
             self.draw_orientation(pixmap, x, y, theta);
@@ -238,6 +311,17 @@ impl BodyLook {
         let (s, c) = theta.sin_cos();
         let (s, c) = (s as f32, c as f32);
         let at = Transform::from_row(c, -s, s, c, x, y);
+        if let (true, Some(turned)) = (fast, &self.turned) {
+            raster::fill_turned(
+                pixmap,
+                &turned.fill,
+                &turned.ring,
+                at,
+                Ink::of(self.fill),
+                Ink::of(self.edge),
+            );
+            return;
+        }
         if let Some(outline) = &self.outline {
             let mut paint = Paint {
                 anti_alias: true,
@@ -326,39 +410,6 @@ impl BodyLook {
             draw_centre_of_mass_marker(pixmap, x, y);
         }
     }
-
-    /// Draws the trail through the centre of mass at each earlier frame.
-    pub fn draw_trail(
-        &self,
-        pixmap: &mut Pixmap,
-        camera: &Camera,
-        clip: &ClipRect,
-        frames: &PointHistory,
-        body: usize,
-    ) {
-        if frames.len() < 2 {
-            return;
-        }
-        let points = frames.iter().map(|f| {
-            let (x, y) = camera.to_pixel_f64(f[body]);
-            (x, y)
-        });
-        let Some(path) = clip.polyline(points) else {
-            return;
-        };
-        let mut paint = Paint {
-            anti_alias: true,
-            ..Paint::default()
-        };
-        paint.set_color(self.trail);
-        let stroke = Stroke {
-            width: 1.5,
-            line_cap: LineCap::Round,
-            line_join: LineJoin::Round,
-            ..Stroke::default()
-        };
-        pixmap.stroke_path(&path, &paint, &stroke, Transform::identity(), None);
-    }
 }
 
 /// The stroke of every outline: 1.5 pixels, with round joins.
@@ -402,46 +453,115 @@ fn draw_centre_of_mass_marker(pixmap: &mut Pixmap, x: f32, y: f32) {
     }
 }
 
+/// Where an arrow's parts lie in pixels: the shaft from its start to the head's base,
+/// and the head's tip and two back corners, each as tiny-skia receives it (f32).
+struct ArrowGeometry {
+    /// The shaft's ends, clipped to the guard band, or `None` when it lies outside.
+    shaft: Option<((f64, f64), (f64, f64))>,
+    /// The head's triangle, or `None` when its tip is outside the guard band.
+    head: Option<[(f32, f32); 3]>,
+}
+
+impl ArrowGeometry {
+    /// Lays out an arrow from pixel (x, y) along the pixel vector (dx, dy), with a head
+    /// whose size follows the stroke width but never exceeds half the arrow's length;
+    /// `None` when it is shorter than half a pixel or not finite.
+    fn new(clip: &ClipRect, (x, y): (f64, f64), (dx, dy): (f64, f64), width: f32) -> Option<Self> {
+        let len = (dx * dx + dy * dy).sqrt();
+        if len < 0.5 || !len.is_finite() {
+            return None;
+        }
+        let (ux, uy) = (dx / len, dy / len);
+        let head = (4.0 * f64::from(width) + 4.0).min(0.5 * len);
+        let base = (x + dx - ux * head, y + dy - uy * head);
+        let tip = (x + dx, y + dy);
+        let half = 0.5 * head;
+        Some(ArrowGeometry {
+            shaft: clip.segment((x, y), base),
+            head: clip.contains(tip.0, tip.1).then_some([
+                (tip.0 as f32, tip.1 as f32),
+                ((base.0 - uy * half) as f32, (base.1 + ux * half) as f32),
+                ((base.0 + uy * half) as f32, (base.1 - ux * half) as f32),
+            ]),
+        })
+    }
+}
+
 /// Draws an arrow from pixel (x, y) along the pixel vector (dx, dy), with a head whose
 /// size follows the stroke width but never exceeds half the arrow's length. The shaft
 /// is clipped to the guard band, and the head is drawn only when the tip is inside it.
+///
+/// The shaft (a stroke wider than a pixel, which tiny-skia fills as the rectangle its
+/// stroker builds) and the head (a triangle) are filled by [`raster`], which gives
+/// tiny-skia's bytes for the same points without its set-up per path: the pixels of
+/// [`draw_arrow_path`] inside the image, and within one quarter-pixel sample of them
+/// where an arrow crosses the image's edge (tested). Strokes of a pixel or less, which
+/// tiny-skia draws as hairlines, are drawn by [`draw_arrow_path`].
 pub fn draw_arrow(
     pixmap: &mut Pixmap,
     clip: &ClipRect,
-    (x, y): (f64, f64),
-    (dx, dy): (f64, f64),
+    at: (f64, f64),
+    d: (f64, f64),
     c: Color,
     width: f32,
 ) {
-    let len = (dx * dx + dy * dy).sqrt();
-    if len < 0.5 || !len.is_finite() {
+    if width <= 1.0 {
+        draw_arrow_path(pixmap, clip, at, d, c, width);
         return;
     }
-    let (ux, uy) = (dx / len, dy / len);
-    let head = (4.0 * f64::from(width) + 4.0).min(0.5 * len);
-    let base = (x + dx - ux * head, y + dy - uy * head);
+    let Some(arrow) = ArrowGeometry::new(clip, at, d, width) else {
+        return;
+    };
+    let ink = Ink::of(c);
+    if let Some((a, b)) = arrow.shaft {
+        let ends = ((a.0 as f32, a.1 as f32), (b.0 as f32, b.1 as f32));
+        if let Some(bar) = raster::bar(ends.0, ends.1, 0.5 * width) {
+            raster::fill_convex(pixmap, &bar, ink);
+        }
+    }
+    if let Some(head) = arrow.head {
+        raster::fill_convex(pixmap, &head, ink);
+    }
+}
+
+/// Draws an arrow as [`draw_arrow`] does, with tiny-skia's paths: a stroked shaft and
+/// a filled head. The reference for [`draw_arrow`], and what it uses for hairlines.
+pub fn draw_arrow_path(
+    pixmap: &mut Pixmap,
+    clip: &ClipRect,
+    at: (f64, f64),
+    d: (f64, f64),
+    c: Color,
+    width: f32,
+) {
+    let Some(arrow) = ArrowGeometry::new(clip, at, d, width) else {
+        return;
+    };
     let mut paint = Paint {
         anti_alias: true,
         ..Paint::default()
     };
     paint.set_color(c);
-    if let Some(shaft) = clip.polyline([(x, y), base]) {
+    if let Some((a, b)) = arrow.shaft {
+        let mut pb = PathBuilder::new();
+        pb.move_to(a.0 as f32, a.1 as f32);
+        pb.line_to(b.0 as f32, b.1 as f32);
         let stroke = Stroke {
             width,
             line_cap: LineCap::Butt,
             ..Stroke::default()
         };
-        pixmap.stroke_path(&shaft, &paint, &stroke, Transform::identity(), None);
+        if let Some(shaft) = pb.finish() {
+            pixmap.stroke_path(&shaft, &paint, &stroke, Transform::identity(), None);
+        }
     }
-    let tip = (x + dx, y + dy);
-    if !clip.contains(tip.0, tip.1) {
+    let Some([tip, left, right]) = arrow.head else {
         return;
-    }
-    let half = 0.5 * head;
+    };
     let mut pb = PathBuilder::new();
-    pb.move_to(tip.0 as f32, tip.1 as f32);
-    pb.line_to((base.0 - uy * half) as f32, (base.1 + ux * half) as f32);
-    pb.line_to((base.0 + uy * half) as f32, (base.1 - ux * half) as f32);
+    pb.move_to(tip.0, tip.1);
+    pb.line_to(left.0, left.1);
+    pb.line_to(right.0, right.1);
     pb.close();
     if let Some(path) = pb.finish() {
         pixmap.fill_path(

@@ -2,13 +2,16 @@
 //!
 //! Rendering reads simulation state and never changes it. Everything that does not
 //! move (the background, and later axes and fields) is drawn once per render into a
-//! static layer that each frame starts from; everything that moves (trails, bodies,
-//! arrows) is drawn over it. Geometry is f64 in the world and f32 in pixels.
+//! static layer that each frame starts from; everything that moves (bodies, arrows) is
+//! drawn over it, and trails over a worker's copy of it that gains each frame's new
+//! segments ([`trails`]). Geometry is f64 in the world and f32 in pixels.
 //!
 //! Drawing skips what a frame does not show: bodies outside the image are not drawn,
-//! bodies that look alike share one prepared look, and small looks that many bodies
-//! share are stamped from pre-rendered sprites ([`sprite`]) instead of being
-//! rasterised body by body.
+//! bodies that look alike share one prepared look wherever they stand in the file
+//! ([`looks`]), small geometries that many bodies share are stamped from pre-rendered
+//! sprites ([`sprite`], and [`turning`] at angle bins) instead of being rasterised
+//! body by body, and arrows and other turning outlines are filled by a scan converter
+//! without tiny-skia's set-up per path ([`raster`]).
 
 pub mod bodies;
 pub mod camera;
@@ -18,11 +21,15 @@ pub mod damage;
 pub mod encode;
 pub mod fastpng;
 pub mod layers;
+pub mod looks;
 pub mod plot;
+pub mod raster;
 pub mod springs;
 pub mod sprite;
 pub mod text;
 pub mod ticks;
+pub mod trails;
+pub mod turning;
 
 use glam::DVec2;
 use tiny_skia::{Color, Pixmap};
@@ -33,9 +40,10 @@ pub use encode::{encode_png, encode_png_into, Compression, Provenance};
 
 use crate::history::PointHistory;
 use crate::scene::Scene;
-use bodies::{draw_arrow, BodyLook};
+use bodies::{draw_arrow, draw_arrow_path};
 use clip::ClipRect;
-use sprite::SpriteSheet;
+use looks::Look;
+use trails::{TrailLayer, TrailStyle};
 
 /// The state of one frame, as the renderer sees it.
 #[derive(Clone, Copy, Debug)]
@@ -125,6 +133,8 @@ pub struct Renderer {
     /// than in every frame; empty when no body is static.
     still: Vec<bool>,
     arrows: ArrowScales,
+    /// The colours of the bodies' trails.
+    trails: TrailStyle,
     /// Axes, fields, curves, legend and HUD.
     overlay: layers::Overlay,
     /// The springs, when the scene shows them.
@@ -133,17 +143,16 @@ pub struct Renderer {
     turning: bool,
     /// The simulated time of the last frame, for the comparison's error strip.
     duration: f64,
+    /// Whether arrows and turning bodies take the fast paths (sprites, [`raster`]) or
+    /// tiny-skia's paths, the reference they are tested against.
+    drawing: BodyDrawing,
+    /// True when turning convex outlines are drawn by the scan converter: with the fast
+    /// paths, when at least [`SPRITE_MIN_BODIES`] bodies have them, so that scenes of a
+    /// few bodies are drawn exactly as their paths.
+    turning_fast: bool,
 }
 
-/// A look shared by one or more bodies, and its sprites when it is stamped.
-struct Look {
-    body: BodyLook,
-    sprite: Option<SpriteSheet>,
-}
-
-/// How many bodies must share a small look before it is stamped from sprites rather
-/// than drawn as a path: scenes of a few bodies are drawn exactly as their paths.
-pub const SPRITE_MIN_BODIES: usize = 16;
+pub use looks::SPRITE_MIN_BODIES;
 
 /// Pixels added to a body's reach for the rectangle it damages: the outline's
 /// half-width and anti-aliasing take at most 3 (a sprite pads by as much), and one more
@@ -160,15 +169,16 @@ fn force_color() -> Color {
     Color::from_rgba8(0xc0, 0x39, 0x2b, 0xff)
 }
 
-/// How bodies are drawn: sprites for small looks many bodies share, or every body as
-/// a path.
+/// How bodies and arrows are drawn: the fast ways (sprites for small looks many bodies
+/// share, [`raster`] for arrows and turning boxes), or everything as tiny-skia's paths.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum BodyDrawing {
-    /// Stamp small looks shared by at least [`SPRITE_MIN_BODIES`] bodies from sprites;
+    /// Stamp small geometries shared by at least [`SPRITE_MIN_BODIES`] bodies from sprites;
     /// draw the others as paths. The default.
     #[default]
     Sprites,
-    /// Draw every body as a path at its exact position.
+    /// Draw every body and arrow as tiny-skia's paths, bodies at their exact
+    /// positions: the reference the fast ways are tested against.
     Paths,
 }
 
@@ -189,57 +199,22 @@ impl Renderer {
         let background = bodies::color(r.background, 1.0);
         static_layer.fill(background);
         overlay.draw_static(&mut static_layer);
-        // A frame may start with a plain fill only while the static layer is nothing
-        // but the background.
-        let first = static_layer.pixels()[0];
-        let plain = static_layer
-            .pixels()
-            .iter()
-            .all(|p| *p == first)
-            .then_some(background);
-        // Consecutive bodies that look alike share one look; a swarm's members are
-        // consecutive, so a swarm of any size has one.
-        let mut looks: Vec<Look> = Vec::new();
-        let mut users: Vec<usize> = Vec::new();
-        let mut look_of = Vec::with_capacity(scene.bodies.len());
         // With `show_bodies = false` nothing of the bodies is drawn.
         let shown = if r.show_bodies {
             scene.bodies.as_slice()
         } else {
             &[]
         };
-        for (i, b) in shown.iter().enumerate() {
-            // A look that never turns is prepared at its body's angle; one that turns
-            // at angle 0, whatever the body's first angle.
-            let same = i > 0 && {
-                let a = &shown[i - 1];
-                a.shape == b.shape
-                    && a.color == b.color
-                    && a.show_velocity == b.show_velocity
-                    && a.show_force == b.show_force
-                    && a.turns == b.turns
-                    && (a.turns || a.angle == b.angle)
-            };
-            if !same {
-                looks.push(Look {
-                    body: BodyLook::new(b, &camera),
-                    sprite: None,
-                });
-                users.push(0);
-            }
-            *users.last_mut().expect("a look was just pushed") += 1;
-            look_of.push((looks.len() - 1) as u32);
-        }
-        if drawing == BodyDrawing::Sprites {
-            for (look, n) in looks.iter_mut().zip(users) {
-                // A turning look is stamped only when turning adds a line over the
-                // same disc: a circle.
-                let stamps = !look.body.turns() || look.body.turns_by_marker();
-                if n >= SPRITE_MIN_BODIES && look.body.is_outline() && stamps {
-                    look.sprite = SpriteSheet::new(&look.body);
-                }
-            }
-        }
+        // Bodies that look alike share one look, wherever they stand in the file.
+        let looks::Looks { looks, look_of } = looks::Looks::new(shown, &camera, drawing);
+        // Trails in each drawn body's colour at 55% opacity.
+        let trails = TrailStyle::new(shown.iter().map(|b| bodies::color(b.color, 0.55)));
+        let turning_fast = drawing == BodyDrawing::Sprites
+            && look_of
+                .iter()
+                .filter(|&&l| looks[l as usize].body.turns_fast())
+                .count()
+                >= SPRITE_MIN_BODIES;
         // Static bodies never move: they are drawn once, into the static layer, over its
         // fields and curves as every body is, and wiped from the margins of a plot with
         // axes as every body is at each frame. Frames then skip them.
@@ -262,6 +237,14 @@ impl Renderer {
         } else {
             Vec::new()
         };
+        // A frame may start with a plain fill only while the static layer is nothing
+        // but the background (static bodies drawn in it included).
+        let first = static_layer.pixels()[0];
+        let plain = static_layer
+            .pixels()
+            .iter()
+            .all(|p| *p == first)
+            .then_some(background);
         let arrow_bodies = shown
             .iter()
             .enumerate()
@@ -280,10 +263,13 @@ impl Renderer {
             arrow_bodies,
             still,
             arrows,
+            trails,
             overlay,
             springs: springs::Springs::new(scene),
             turning: scene.bodies.iter().any(|b| b.turns),
             duration: scene.frame_time(r.frame_count - 1).max(f64::MIN_POSITIVE),
+            drawing,
+            turning_fast,
         }
     }
 
@@ -347,8 +333,14 @@ impl Renderer {
     /// Draws one frame into a new pixmap.
     pub fn draw(&self, frame: &FrameView<'_>) -> Pixmap {
         let mut pixmap = self.static_layer.clone();
-        self.draw_moving(frame, &mut pixmap);
+        self.draw_into(frame, &mut pixmap);
         pixmap
+    }
+
+    /// Returns a new layer for the trails, when frames show trails: a worker keeps one
+    /// and hands it to [`Renderer::draw_with_trails`] with each frame it draws.
+    pub fn new_trail_layer(&self) -> TrailLayer {
+        TrailLayer::new(&self.static_layer)
     }
 
     /// Draws one frame into `pixmap`, which must have the frame's size (as from
@@ -366,14 +358,42 @@ impl Renderer {
     /// are drawn (over a static layer that may hold axes and fields), the whole frame
     /// otherwise. The pixels are those of [`Renderer::draw_into`], whatever the damage.
     pub fn draw_damaged(&self, frame: &FrameView<'_>, pixmap: &mut Pixmap, damage: &mut Damage) {
+        self.draw_with_trails(frame, pixmap, damage, &mut None);
+    }
+
+    /// Draws one frame like [`Renderer::draw_damaged`], bringing the worker's trail
+    /// layer `trails` (made when first needed) up to the frame when it shows trails, so
+    /// that only the segments since the worker's last frame are drawn. The pixels do
+    /// not depend on the layer's past: a fresh layer gives the same frame.
+    pub fn draw_with_trails(
+        &self,
+        frame: &FrameView<'_>,
+        pixmap: &mut Pixmap,
+        damage: &mut Damage,
+        trails: &mut Option<TrailLayer>,
+    ) {
         assert_eq!(
             (pixmap.width(), pixmap.height()),
             (self.width, self.height),
             "draw_into needs a pixmap the size of the frame"
         );
+        if let Some(history) = frame.trail {
+            // The frame starts from the static layer with the trails so far over it.
+            let layer = trails.get_or_insert_with(|| self.new_trail_layer());
+            layer.advance(
+                &self.trails,
+                &self.camera,
+                &self.clip,
+                &self.static_layer,
+                history,
+            );
+            pixmap.data_mut().copy_from_slice(layer.base().data());
+            damage.set_whole();
+            self.draw_moving(frame, pixmap);
+            return;
+        }
         self.restore(pixmap, damage);
-        let bodies_only = frame.trail.is_none()
-            && self.springs.is_none()
+        let bodies_only = self.springs.is_none()
             && frame.compare.is_none()
             && self.arrow_bodies.is_empty()
             && !self.overlay.draws_over_frames();
@@ -413,20 +433,10 @@ impl Renderer {
         }
     }
 
-    /// Draws everything that moves over a copy of the static layer: trails, springs,
-    /// then bodies in index order, then arrows.
+    /// Draws everything that moves over a copy of the static layer (with the trails
+    /// over it, when frames show trails): springs, then bodies in index order, then
+    /// arrows.
     fn draw_moving(&self, frame: &FrameView<'_>, pixmap: &mut Pixmap) {
-        if let Some(trail) = frame.trail {
-            for (i, &look) in self.look_of.iter().enumerate() {
-                self.looks[look as usize].body.draw_trail(
-                    pixmap,
-                    &self.camera,
-                    &self.clip,
-                    trail,
-                    i,
-                );
-            }
-        }
         if let Some(springs) = &self.springs {
             springs.draw(pixmap, &self.camera, &self.clip, frame.pos, frame.angle);
         }
@@ -439,18 +449,26 @@ impl Renderer {
                 let d = self
                     .camera
                     .to_pixel_vector_f64(self.arrows.velocity * frame.vel[i]);
-                draw_arrow(pixmap, &self.clip, at, d, velocity_color(), 2.0);
+                self.arrow(pixmap, at, d, velocity_color());
             }
             if let (true, Some(force)) = (look.show_force, frame.force) {
                 let d = self
                     .camera
                     .to_pixel_vector_f64(self.arrows.force * force[i]);
-                draw_arrow(pixmap, &self.clip, at, d, force_color(), 2.0);
+                self.arrow(pixmap, at, d, force_color());
             }
         }
         self.overlay.draw_frame(pixmap, &self.static_layer, frame);
         if let Some(compare) = frame.compare {
             compare::draw(pixmap, &self.camera, compare, self.duration);
+        }
+    }
+
+    /// Draws a body's arrow from pixel `at` along the pixel vector `d`, 2 pixels wide.
+    fn arrow(&self, pixmap: &mut Pixmap, at: (f64, f64), d: (f64, f64), c: Color) {
+        match self.drawing {
+            BodyDrawing::Sprites => draw_arrow(pixmap, &self.clip, at, d, c, 2.0),
+            BodyDrawing::Paths => draw_arrow_path(pixmap, &self.clip, at, d, c, 2.0),
         }
     }
 
@@ -476,10 +494,34 @@ impl Renderer {
             // A body that turns is drawn at this frame's angle.
             let angle = frame.angle.filter(|_| look.body.turns()).map(|a| a[i]);
             if let Some(damage) = damage.as_deref_mut().filter(|d| !d.is_whole()) {
+                // A turning stamp changes exactly its sprite's rectangle.
+                if let (Some(sheet), Some(theta)) = (&look.turning, angle) {
+                    damage.add_rect(sheet.footprint(x, y, theta), self.width, self.height);
+                    sheet.stamp(pixmap, x, y, theta);
+                    continue;
+                }
                 match &look.sprite {
                     // A stamp changes exactly its sprite's rectangle.
                     Some(sprite) if angle.is_none() => {
                         damage.add_rect(sprite.footprint(x, y), self.width, self.height)
+                    }
+                    // A turning convex outline drawn by the scan converter lies in
+                    // the box of its turned points, grown for its stroke and
+                    // anti-aliasing; a pixel more is spare.
+                    _ if angle.is_some() && self.turning_fast && look.body.turns_fast() => {
+                        let theta = angle.unwrap_or(0.0);
+                        let (ex, ey) = look.body.turned_extent(theta).unwrap_or((0.0, 0.0));
+                        let (ex, ey) = (ex + 1.0, ey + 1.0);
+                        damage.add_rect(
+                            (
+                                (x - ex).floor() as i64,
+                                (y - ey).floor() as i64,
+                                (x + ex).ceil() as i64 + 1,
+                                (y + ey).ceil() as i64 + 1,
+                            ),
+                            self.width,
+                            self.height,
+                        )
                     }
                     // Everything drawn for a body lies within its reach of (x, y), at
                     // any angle; the margin covers the outline's half-width and
@@ -493,6 +535,10 @@ impl Renderer {
                     ),
                 }
             }
+            if let (Some(sheet), Some(theta)) = (&look.turning, angle) {
+                sheet.stamp(pixmap, x, y, theta);
+                continue;
+            }
             match (&look.sprite, angle) {
                 (Some(sprite), None) => sprite.stamp(pixmap, x, y),
                 // Only a circle's look turns and keeps its sprite: the disc, then its
@@ -500,6 +546,11 @@ impl Renderer {
                 (Some(sprite), Some(theta)) => {
                     sprite.stamp(pixmap, x, y);
                     look.body.draw_orientation(pixmap, x, y, theta);
+                }
+                // A turning convex outline goes through the scan converter, when many
+                // bodies do.
+                (None, Some(theta)) if self.turning_fast => {
+                    look.body.draw_turned_fast(pixmap, x, y, theta)
                 }
                 (None, Some(theta)) => look.body.draw_turned(pixmap, x, y, theta),
                 (None, None) => look.body.draw(pixmap, x, y),

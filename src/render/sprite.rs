@@ -14,6 +14,8 @@
 //! the unsnapped position, the difference is that of moving the shape by at most
 //! 1/(2·`PHASES`) pixel; `tests/integration/perf.rs` measures both.
 
+use std::sync::Arc;
+
 use tiny_skia::{Color, Pixmap};
 
 use super::bodies::BodyLook;
@@ -29,19 +31,29 @@ pub const MAX_SPRITE_REACH: f32 = 24.0;
 /// [`BodyLook::on_grid`]), so that the sprite and the path agree sample for sample.
 pub const GRID: f32 = 1.0 / 256.0;
 
-/// A look rasterised once at every sub-pixel phase.
+/// A look rasterised once at every sub-pixel phase, stamped in its colours.
+///
+/// The coverage depends only on the look's geometry, so looks that differ only in
+/// colour share it ([`SpriteSheet::coverage`], [`SpriteSheet::with_coverage`]).
 #[derive(Clone, Debug)]
 pub struct SpriteSheet {
-    sprites: Vec<Sprite>,
+    coverage: Arc<SpriteCoverage>,
     fill: Ink,
     edge: Ink,
+}
+
+/// The coverage of a look's fill and outline at every sub-pixel phase, whatever its
+/// colours.
+#[derive(Debug)]
+pub struct SpriteCoverage {
+    sprites: Vec<Sprite>,
 }
 
 /// A paint's colour as tiny-skia's 8-bit pipeline holds it: premultiplied bytes, and
 /// whether it is opaque (tiny-skia then blends by linear interpolation with the
 /// coverage, otherwise by scaling the colour by the coverage and compositing over).
 #[derive(Clone, Copy, Debug)]
-struct Ink {
+pub struct Ink {
     rgba: [u16; 4],
     opaque: bool,
 }
@@ -49,13 +61,13 @@ struct Ink {
 /// One phase of a look: coverage of the fill and of the outline for each pixel of the
 /// smallest rectangle that either touches.
 #[derive(Clone, Debug)]
-struct Sprite {
+pub(crate) struct Sprite {
     /// The offset of the sprite's top-left pixel from the whole-pixel part of the
     /// snapped position.
-    dx: i32,
-    dy: i32,
-    width: usize,
-    height: usize,
+    pub(crate) dx: i32,
+    pub(crate) dy: i32,
+    pub(crate) width: usize,
+    pub(crate) height: usize,
     /// (fill coverage, outline coverage) for each pixel, row after row.
     coverage: Vec<[u8; 2]>,
 }
@@ -64,6 +76,23 @@ impl SpriteSheet {
     /// Rasterises an outline look at every phase, or returns `None` when it is too
     /// large to stamp or is not an outline.
     pub fn new(look: &BodyLook) -> Option<Self> {
+        Some(Self::with_coverage(Self::coverage(look)?, look))
+    }
+
+    /// Returns a sheet that stamps `coverage`, rasterised from a look of the same
+    /// geometry as `look`, in `look`'s colours.
+    pub fn with_coverage(coverage: Arc<SpriteCoverage>, look: &BodyLook) -> Self {
+        let (fill, edge) = look.colors();
+        SpriteSheet {
+            coverage,
+            fill: Ink::of(fill),
+            edge: Ink::of(edge),
+        }
+    }
+
+    /// Rasterises the coverage of an outline look's fill and outline at every phase,
+    /// or returns `None` when the look is too large to stamp or is not an outline.
+    pub fn coverage(look: &BodyLook) -> Option<Arc<SpriteCoverage>> {
         if !look.is_outline() {
             return None;
         }
@@ -90,12 +119,7 @@ impl SpriteSheet {
                 sprites.push(Sprite::trimmed(&fill, &edge, -pad, -pad));
             }
         }
-        let (fill, edge) = look.colors();
-        Some(SpriteSheet {
-            sprites,
-            fill: Ink::of(fill),
-            edge: Ink::of(edge),
-        })
+        Some(Arc::new(SpriteCoverage { sprites }))
     }
 
     /// Returns the pixels that [`SpriteSheet::stamp`] at (x, y) may change, columns
@@ -104,7 +128,7 @@ impl SpriteSheet {
     pub fn footprint(&self, x: f32, y: f32) -> (i64, i64, i64, i64) {
         let (ix, i) = snap(x);
         let (iy, j) = snap(y);
-        let sprite = &self.sprites[(j * PHASES + i) as usize];
+        let sprite = &self.coverage.sprites[(j * PHASES + i) as usize];
         let (x0, y0) = (ix + i64::from(sprite.dx), iy + i64::from(sprite.dy));
         (x0, y0, x0 + sprite.width as i64, y0 + sprite.height as i64)
     }
@@ -114,7 +138,7 @@ impl SpriteSheet {
     pub fn stamp(&self, pixmap: &mut Pixmap, x: f32, y: f32) {
         let (ix, i) = snap(x);
         let (iy, j) = snap(y);
-        let sprite = &self.sprites[(j * PHASES + i) as usize];
+        let sprite = &self.coverage.sprites[(j * PHASES + i) as usize];
         sprite.stamp(
             pixmap,
             ix + i64::from(sprite.dx),
@@ -126,7 +150,8 @@ impl SpriteSheet {
 }
 
 impl Ink {
-    fn of(color: Color) -> Ink {
+    /// Returns a colour as tiny-skia's 8-bit pipeline paints it.
+    pub fn of(color: Color) -> Ink {
         let c = color.premultiply().to_color_u8();
         Ink {
             rgba: [c.red(), c.green(), c.blue(), c.alpha()].map(u16::from),
@@ -140,10 +165,15 @@ impl Ink {
     /// otherwise: s' = div255(s·c), then d' = s' + div255(d·(255 - s'_a)) (source over).
     /// Both leave d unchanged when c = 0.
     #[inline(always)]
-    fn blend(&self, d: &mut [u8], c: u8) {
+    pub fn blend(&self, d: &mut [u8], c: u8) {
         let c = u16::from(c);
         let div255 = |v: u16| (v + 255) >> 8;
-        if self.opaque {
+        if self.opaque && c == 255 {
+            // div255(s·255) = s: the colour itself, without reading the pixel.
+            for (d, s) in d.iter_mut().zip(self.rgba) {
+                *d = s as u8;
+            }
+        } else if self.opaque {
             for (d, s) in d.iter_mut().zip(self.rgba) {
                 *d = div255(u16::from(*d) * (255 - c) + s * c) as u8;
             }
@@ -161,8 +191,14 @@ impl Ink {
 /// q = round(x·PHASES), whole = ⌊q / PHASES⌋, phase = q mod PHASES.
 #[inline]
 fn snap(x: f32) -> (i64, u32) {
-    let q = (f64::from(x) * f64::from(PHASES)).round() as i64;
-    let p = i64::from(PHASES);
+    snap_to(x, PHASES)
+}
+
+/// Splits a pixel coordinate snapped to 1/`phases` into its whole pixel and phase.
+#[inline]
+pub(crate) fn snap_to(x: f32, phases: u32) -> (i64, u32) {
+    let q = (f64::from(x) * f64::from(phases)).round() as i64;
+    let p = i64::from(phases);
     (q.div_euclid(p), q.rem_euclid(p) as u32)
 }
 
@@ -170,7 +206,7 @@ impl Sprite {
     /// Keeps the smallest rectangle holding every pixel that the fill or the outline
     /// covers at all; (dx, dy) is where the pixmaps' top-left sits relative to the
     /// position they were drawn for.
-    fn trimmed(fill: &Pixmap, edge: &Pixmap, dx: i32, dy: i32) -> Sprite {
+    pub(crate) fn trimmed(fill: &Pixmap, edge: &Pixmap, dx: i32, dy: i32) -> Sprite {
         let (w, h) = (fill.width() as usize, fill.height() as usize);
         let coverage = |x: usize, y: usize| {
             let k = 4 * (y * w + x) + 3;
@@ -210,7 +246,7 @@ impl Sprite {
     }
 
     /// Blends the fill, then the outline, with the sprite's top-left pixel at (x, y).
-    fn stamp(&self, pixmap: &mut Pixmap, x: i64, y: i64, fill: Ink, edge: Ink) {
+    pub(crate) fn stamp(&self, pixmap: &mut Pixmap, x: i64, y: i64, fill: Ink, edge: Ink) {
         let (pw, ph) = (i64::from(pixmap.width()), i64::from(pixmap.height()));
         let (w, h) = (self.width as i64, self.height as i64);
         // The part of the sprite inside the pixmap: columns cx0..cx1, rows cy0..cy1.

@@ -351,7 +351,9 @@ impl Simulation {
             Ok(false) => Ok(()),
             Ok(true) => {
                 self.stepper.reset();
-                Ok(())
+                // Impulses on a state near overflow can themselves overflow.
+                self.system.record_finite_step(&self.state.pos, false);
+                self.check_finite()
             }
             Err(o) => Err(BlowUp {
                 body: o.a,

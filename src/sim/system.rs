@@ -199,6 +199,17 @@ impl System {
         self.uniform_mass.map(|(m, _)| m)
     }
 
+    /// Returns, for the chunk of bodies `start..start + len`, (G, k, 1/m) when every
+    /// body has the mass m and the forces on the chunk are F = G - k·v (gravity and at
+    /// most one linear drag on every body: [`ForceSet::uniform_linear`]); `k` is `None`
+    /// without drag.
+    #[inline(always)]
+    pub fn uniform_linear(&self, start: usize, len: usize) -> Option<(DVec2, Option<f64>, f64)> {
+        let (m, inv) = self.uniform_mass?;
+        let (g, k) = self.forces.uniform_linear(m, start, len)?;
+        Some((g, k, inv))
+    }
+
     /// Returns the forces acting in this system.
     pub fn force_set(&self) -> &ForceSet {
         &self.forces

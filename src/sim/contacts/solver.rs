@@ -191,8 +191,10 @@ fn solve_friction(m: &mut Manifold, inv: (Inverse, Inverse), v: &mut Velocities<
         let p = m.points[k];
         let vt = v.relative(m, p.ra, p.rb).dot(t);
         let lambda = -p.tangent_mass * vt;
-        let limit = m.friction * p.pn;
-        let total = (p.pt + lambda).clamp(-limit, limit);
+        // (max and min rather than clamp: a state so large that its impulses
+        // overflow must not panic, only blow up, which the step's check reports.)
+        let limit = (m.friction * p.pn).max(0.0);
+        let total = (p.pt + lambda).max(-limit).min(limit);
         let applied = total - p.pt;
         m.points[k].pt = total;
         change = change.max(applied.abs());
@@ -284,7 +286,7 @@ fn solve_block(m: &mut Manifold, inv: (Inverse, Inverse), v: &mut Velocities<'_>
 /// (negative: overlapping), with slop `slop`, at most `max` at once:
 /// C = clamp(β·(gap + slop), -max, 0), and the impulse -C/K along the normal.
 pub fn relaxation(gap: f64, slop: f64, max: f64, mass: f64) -> f64 {
-    let c = (BAUMGARTE * (gap + slop)).clamp(-max, 0.0);
+    let c = (BAUMGARTE * (gap + slop)).max(-max).min(0.0);
     -c * mass
 }
 

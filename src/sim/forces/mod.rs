@@ -493,6 +493,29 @@ impl ForceSet {
             && self.central.iter().all(|f| whole(&f.bodies))
     }
 
+    /// Returns the forces on a chunk of bodies `start..start + len` of one mass `m` as
+    /// F = G - k·v, when they are uniform gravity and at most one linear drag, each
+    /// acting on the whole chunk (and nothing else but springs): then G, the gravity
+    /// sum 0 + m·g₁ + m·g₂ + … that [`ForceSet::forces_on`] starts every body with, is
+    /// one vector for the chunk, and a step's loop computes (G - k·v)·(1/m) with the
+    /// very operations, and so the bits, of the general sum.
+    #[inline(always)]
+    pub fn uniform_linear(&self, m: f64, start: usize, len: usize) -> Option<(DVec2, Option<f64>)> {
+        if !(self.quadratic_drag.is_empty()
+            && self.time_varying.is_empty()
+            && self.central.is_empty()
+            && self.drag.len() <= 1
+            && self.acts_on_whole_chunk(start, len))
+        {
+            return None;
+        }
+        let g = self
+            .gravity
+            .iter()
+            .fold(DVec2::ZERO, |f, gravity| f + m * gravity.g);
+        Some((g, self.drag.first().map(|d| d.k)))
+    }
+
     /// Returns the net force of every force but the springs on `N` bodies with
     /// positions `r`, velocities `v` and masses `m`, each of which every force acts
     /// on, at time `t`.

@@ -1,0 +1,116 @@
+#!/bin/sh
+# Writes the benchmark scenes of bodies written one `[[body]]` table each, as a user
+# writes them (issue #16): the same moving discs as circles-1000.toml, but in the
+# default colour cycle, and variants with 10,000 bodies, velocity arrows, trails, mixed
+# shapes and turning boxes. Run from the repository's root:
+#   sh scenes/bench/make-scenes.sh
+# The numbers come from a Park-Miller generator (x <- 16807·x mod 2^31 - 1, exact in
+# awk's doubles) and are printed with 4 decimals, so every run writes the same files.
+set -eu
+cd "$(dirname "$0")"
+
+# header NAME TITLE DURATION [EXTRA-RENDER-LINE]
+header() {
+    cat <<HEAD
+# Benchmark (issue #16): $2
+# Written by scenes/bench/make-scenes.sh; \`physframes bench\` prints its frame rate and
+# its ratio to circles-1000.toml measured in the same run.
+name = "$1"
+
+[simulation]
+duration = $3
+# dt defaults to 1/(10·fps)
+
+[render]
+width = 1280
+height = 720
+fps = 30
+view = { min = [0.0, 0.0], max = [16.0, 9.0] }
+HEAD
+    if [ $# -ge 4 ]; then printf '%s\n' "$4"; fi
+    printf '\n'
+}
+
+footer() {
+    cat <<FOOT
+[[force]]
+kind = "drag"            # F = -k·v: the bodies slow down a little
+k = 0.05
+FOOT
+}
+
+# bodies COUNT SEED KIND [RADIUS]: COUNT [[body]] tables; KIND is circles, arrows, mixed
+# or turning; circles and arrows have RADIUS (0.06 unless given).
+bodies() {
+    awk -v n="$1" -v seed="$2" -v kind="$3" -v radius="${4:-0.06}" '
+    function rnd() { x = (x * 16807) % 2147483647; return x / 2147483647 }
+    function uniform(a, b) { return a + (b - a) * rnd() }
+    BEGIN {
+        x = seed
+        for (i = 0; i < n; i++) {
+            px = uniform(0.5, 15.5); py = uniform(0.5, 8.5)
+            vx = uniform(-0.3, 0.3); vy = uniform(-0.3, 0.3)
+            printf "[[body]]\nmass = 1.0\nposition = [%.4f, %.4f]\nvelocity = [%.4f, %.4f]\n", px, py, vx, vy
+            if (kind == "circles" || kind == "arrows") {
+                printf "shape = { circle = { radius = %s } }\n", radius
+                if (kind == "arrows") print "show_velocity = true"
+            } else if (kind == "mixed") {
+                # Circles, boxes, triangles and pentagons of two sizes each, in an order
+                # that does not repeat with the colour cycle.
+                k = int(8 * rnd())
+                s = (k % 2 == 0) ? 1.0 : 1.5
+                if (k < 2) printf "shape = { circle = { radius = %.4f } }\n", 0.05 * s
+                else if (k < 4) printf "shape = { box = { width = %.4f, height = %.4f } }\n", 0.12 * s, 0.08 * s
+                else if (k < 6) printf "shape = { polygon = { points = [[%.4f, %.4f], [%.4f, %.4f], [0.0, %.4f]] } }\n", -0.07 * s, -0.05 * s, 0.07 * s, -0.05 * s, 0.07 * s
+                else {
+                    printf "shape = { polygon = { points = ["
+                    for (j = 0; j < 5; j++) {
+                        a = 6.283185307179586 * j / 5 + 1.5707963267948966
+                        printf "%s[%.4f, %.4f]", (j ? ", " : ""), 0.06 * s * cos(a), 0.06 * s * sin(a)
+                    }
+                    printf "] } }\n"
+                }
+            } else if (kind == "turning") {
+                printf "angle = %.4f\nangular_velocity = %.4f\n", uniform(-3.1416, 3.1416), uniform(-2.0, 2.0)
+                print "shape = { box = { width = 0.16, height = 0.08 } }"
+            }
+        }
+    }'
+    printf '\n'
+}
+
+{
+    header bodies-1000 "1000 moving discs, one [[body]] table each, in the default colour cycle." 10.0
+    bodies 1000 7 circles
+    footer
+} >bodies-1000.toml
+
+{
+    header bodies-10000 "the 10,000 moving discs of circles-10000.toml (radius 0.03), one [[body]] table each, in the default colour cycle." 10.0
+    bodies 10000 11 circles 0.03
+    footer
+} >bodies-10000.toml
+
+{
+    header arrows-1000 "1000 moving discs in the default colours, each showing its velocity arrow." 10.0
+    bodies 1000 13 arrows
+    footer
+} >arrows-1000.toml
+
+{
+    header trails-1000 "1000 moving discs in the default colours with trails, 1201 frames." 40.0 "trails = true"
+    bodies 1000 17 circles
+    footer
+} >trails-1000.toml
+
+{
+    header mixed-1000 "1000 circles, boxes, triangles and pentagons of two sizes each, in the default colours." 10.0
+    bodies 1000 19 mixed
+    footer
+} >mixed-1000.toml
+
+{
+    header turning-boxes-1000 "1000 boxes in the default colours, each turning at its own rate from its own angle." 10.0
+    bodies 1000 23 turning
+    footer
+} >turning-boxes-1000.toml

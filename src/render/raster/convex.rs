@@ -1,0 +1,349 @@
+//! Convex shapes scan-converted by walking their two chains of edges: the same bytes
+//! as the general scan for the nonzero rule ([`super::fill_polygons`]), quicker.
+
+use std::cell::RefCell;
+
+use tiny_skia::Pixmap;
+
+use super::shapes::Ring;
+use super::{Edge, Point};
+use crate::render::sprite::Ink;
+
+/// Fills a convex polygon with `ink`, like [`super::fill_polygons`] with one polygon (the same
+/// bytes) but quicker: a convex polygon crosses each sub-row at one edge going down and
+/// one going up, so the two chains are walked instead of sorting edges.
+pub fn fill_convex(pixmap: &mut Pixmap, points: &[Point], ink: Ink) {
+    CONVEX.with(|c| {
+        let c = &mut *c.borrow_mut();
+        c.chains.set(points, &[]);
+        blend_convex(pixmap, &mut c.chains, ink);
+    });
+}
+
+/// Calls `put(i, c)` with the coverage c > 0 of every pixel i (counted row after row in
+/// an image `width` × `height`) that a convex polygon covers, pixel by pixel within a
+/// row and row after row: the coverage [`fill_convex`] blends.
+pub fn cover_convex(width: u32, height: u32, points: &[Point], put: impl FnMut(usize, u8)) {
+    CONVEX.with(|c| {
+        let c = &mut *c.borrow_mut();
+        c.chains.set(points, &[]);
+        scan_convex(width as usize, height as usize, &mut c.chains, put);
+    });
+}
+
+/// Blends `ink` into the pixmap with the coverage of the chains' shape.
+fn blend_convex(pixmap: &mut Pixmap, chains: &mut Chains, ink: Ink) {
+    let (width, height) = (pixmap.width() as usize, pixmap.height() as usize);
+    let data = pixmap.data_mut();
+    scan_convex(width, height, chains, |i, c| {
+        ink.blend(&mut data[4 * i..4 * i + 4], c);
+    });
+}
+
+/// A convex polygon, less a convex hole inside it, as chains of tiny-skia's edges: the
+/// edges going down (winding +1) and those going up, each in order of their sub-rows,
+/// which for a convex polygon follow one another without a gap.
+#[derive(Default)]
+struct Chains {
+    /// The polygon's two chains, then the hole's.
+    chains: [Vec<Edge>; 4],
+    /// Where each chain is: its current edge, the sub-row and x it was last asked for.
+    cursors: [Cursor; 4],
+}
+
+/// A chain's current edge, and its crossing of the last sub-row asked for.
+#[derive(Clone, Copy, Debug, Default)]
+struct Cursor {
+    edge: usize,
+    sy: i64,
+    x: i64,
+    dx: i64,
+    last: i64,
+}
+
+impl Chains {
+    fn set(&mut self, outer: &[Point], hole: &[Point]) {
+        for c in &mut self.chains {
+            c.clear();
+        }
+        let finite = |ps: &[Point]| ps.iter().all(|p| p.0.is_finite() && p.1.is_finite());
+        if outer.len() < 3 || !finite(outer) || !finite(hole) {
+            return;
+        }
+        for (k, points) in [outer, hole].into_iter().enumerate() {
+            if points.len() < 3 {
+                continue;
+            }
+            let mut previous = points[points.len() - 1];
+            for &p in points {
+                if let Some(e) = Edge::new(previous, p) {
+                    self.chains[2 * k + usize::from(e.winding < 0)].push(e);
+                }
+                previous = p;
+            }
+        }
+        for c in &mut self.chains {
+            c.sort_unstable_by_key(|e| e.first);
+        }
+        // No sub-row asked for yet.
+        self.cursors = [Cursor {
+            sy: i64::MIN,
+            last: i64::MIN,
+            ..Cursor::default()
+        }; 4];
+    }
+
+    /// The sub-rows the polygon covers, first..end.
+    fn rows(&self) -> (i64, i64) {
+        let [a, b, ..] = &self.chains;
+        let first = a.iter().chain(b).map(|e| e.first).min().unwrap_or(0);
+        let end = a.iter().chain(b).map(|e| e.last + 1).max().unwrap_or(0);
+        (first, end)
+    }
+
+    /// Returns chain `k`'s fixed-point crossing of sub-row `sy`, or `None` when the
+    /// chain does not reach it; calls come with `sy` increasing.
+    #[inline]
+    fn crossing(&mut self, k: usize, sy: i64) -> Option<i64> {
+        let c = &mut self.cursors[k];
+        if sy == c.sy + 1 && sy <= c.last {
+            c.sy = sy;
+            c.x += c.dx;
+            return Some(c.x);
+        }
+        let chain = &self.chains[k];
+        while c.edge < chain.len() && chain[c.edge].last < sy {
+            c.edge += 1;
+        }
+        let e = chain.get(c.edge).filter(|e| e.first <= sy)?;
+        *c = Cursor {
+            edge: c.edge,
+            sy,
+            x: e.x + e.dx * (sy - e.first),
+            dx: e.dx,
+            last: e.last,
+        };
+        Some(c.x)
+    }
+}
+
+/// What one thread reuses for convex shapes.
+#[derive(Default)]
+struct Convex {
+    chains: Chains,
+}
+
+thread_local! {
+    static CONVEX: RefCell<Convex> = RefCell::new(Convex::default());
+}
+
+/// Scan-converts a convex polygon less a convex hole sub-row by sub-row, in an image
+/// `width` × `height`, and hands each pixel row's coverage to `put` (pixel index,
+/// coverage) as it is finished. The spans are those tiny-skia
+/// finds with the nonzero rule: from the polygon's left crossing to the hole's, and
+/// from the hole's right crossing to the polygon's.
+///
+/// A pixel row's coverage is summed from its (at most eight) spans of quarter-pixel
+/// columns pixel by pixel, as [`accumulate`] would sum them, except in the run of
+/// pixels that all four sub-rows cover whole (255), which is blended in one go.
+fn scan_convex(width: usize, height: usize, chains: &mut Chains, mut put: impl FnMut(usize, u8)) {
+    let max_column = 4 * width as i64;
+    let (first, end) = chains.rows();
+    let (first, end) = (first.max(0), end.min(4 * height as i64));
+    if first >= end {
+        return;
+    }
+    let holed = !chains.chains[2].is_empty();
+    let column = |v: i64| ((v + 0x8000) >> 16).clamp(0, max_column);
+    let mut sy = first;
+    while sy < end {
+        let py = (sy >> 2) as usize;
+        let row_end = (((sy >> 2) + 1) * 4).min(end);
+        // The row's spans: quarter-pixel columns a..b and the sub-row's full weight.
+        let mut spans = [(0i64, 0i64, 0u16); 8];
+        let mut n = 0;
+        // The pixels every sub-row covers whole, when each sub-row has one span.
+        let (mut core_lo, mut core_hi) = (0i64, i64::MAX);
+        let mut single = true;
+        let mut rows = 0;
+        while sy < row_end {
+            let full = 64 - u16::from(sy & 3 == 3);
+            let before = n;
+            let mut add = |a: i64, b: i64| {
+                if a < b {
+                    spans[n] = (a, b, full);
+                    n += 1;
+                }
+            };
+            let (Some(up), Some(down)) = (chains.crossing(0, sy), chains.crossing(1, sy)) else {
+                sy += 1;
+                single = false;
+                continue;
+            };
+            let (l, r) = (up.min(down), up.max(down));
+            let hole = if holed {
+                chains.crossing(2, sy).zip(chains.crossing(3, sy))
+            } else {
+                None
+            };
+            match hole {
+                None => add(column(l), column(r)),
+                // The usual case, a hole wound against the polygon and inside it: the
+                // nonzero rule covers from each of the polygon's crossings to the
+                // hole's on its side.
+                Some((a, b)) if (a <= b) != (up <= down) && l <= a.min(b) && a.max(b) <= r => {
+                    add(column(l), column(a.min(b)));
+                    add(column(a.max(b)), column(r));
+                }
+                // Otherwise the four crossings with their windings are sorted by x, as
+                // tiny-skia sorts its active edges, and walked with the nonzero rule.
+                Some((a, b)) => {
+                    let mut xs = [(up, 1i32), (down, -1), (a, 1), (b, -1)];
+                    xs.sort_by_key(|c| c.0);
+                    let (mut w, mut left) = (0, 0);
+                    for (x, winding) in xs {
+                        let x = column(x);
+                        if w == 0 {
+                            left = x;
+                        }
+                        w += winding;
+                        if w == 0 {
+                            add(left, x);
+                        }
+                    }
+                }
+            }
+            if n == before + 1 {
+                let (a, b, _) = spans[before];
+                core_lo = core_lo.max((a + 3) >> 2);
+                core_hi = core_hi.min(b >> 2);
+            } else {
+                single = false;
+            }
+            rows += 1;
+            sy += 1;
+        }
+        if n == 0 {
+            continue;
+        }
+        if !(single && rows == 4) || core_lo >= core_hi {
+            core_lo = i64::MAX;
+            core_hi = i64::MAX;
+        }
+        // The pixels the spans touch, as disjoint runs: a ring's row is two runs with
+        // the hole between them, which is not visited.
+        let spans = &mut spans[..n];
+        // Without a hole a row's spans are one run (pixels between two of them, if
+        // any, have no coverage and are skipped below); with one, they are sorted and
+        // merged into runs, so that the hole is not visited.
+        if holed {
+            spans.sort_unstable_by_key(|s| s.0);
+        }
+        let base = py * width;
+        let mut k = 0;
+        while k < n {
+            let lo = spans[k].0 >> 2;
+            let mut hi = (spans[k].1 + 3) >> 2;
+            let mut lo = lo;
+            let mut j = k + 1;
+            while j < n && (!holed || spans[j].0 >> 2 <= hi) {
+                lo = lo.min(spans[j].0 >> 2);
+                hi = hi.max((spans[j].1 + 3) >> 2);
+                j += 1;
+            }
+            let run = &spans[k..j];
+            k = j;
+            let hi = hi.min(width as i64);
+            let mut x = lo;
+            while x < hi {
+                if x == core_lo {
+                    // Covered whole by all four sub-rows: 64·3 + 63 = 255.
+                    for i in base + x as usize..base + core_hi as usize {
+                        put(i, 255);
+                    }
+                    x = core_hi;
+                    continue;
+                }
+                // Quarter-pixel columns 4x..4x + 4 against each span.
+                let mut c = 0u16;
+                for &(a, b, full) in run {
+                    let o = (b.min(4 * x + 4) - a.max(4 * x)).max(0);
+                    c += if o == 4 { full } else { 16 * o as u16 };
+                }
+                if c != 0 {
+                    // Skia's runs cap a sum of 256 at 255: (a - (a >> 8)).
+                    put(base + x as usize, (c - (c >> 8)).min(255) as u8);
+                }
+                x += 1;
+            }
+        }
+    }
+}
+
+thread_local! {
+    /// Each thread's transformed points of a turned outline and of its ring's sides.
+    static TURNED: RefCell<(Vec<tiny_skia::Point>, [Vec<Point>; 3])> =
+        RefCell::new(Default::default());
+}
+
+/// Draws a convex outline turned and placed by `at` as tiny-skia draws the paths: the
+/// polygon `fill` in `fill_ink`, then its stroke, `ring`, in `edge_ink`. The points are
+/// taken through `at` by tiny-skia's own `Transform::map_points`, so the fill has the
+/// bytes of tiny-skia's.
+pub fn fill_turned(
+    pixmap: &mut Pixmap,
+    fill: &[Point],
+    ring: &Ring,
+    at: tiny_skia::Transform,
+    fill_ink: Ink,
+    edge_ink: Ink,
+) {
+    turned(pixmap, None, fill, ring, at, [fill_ink, edge_ink]);
+}
+
+/// Draws a turned convex outline like [`fill_turned`], its fill into `fill_pixmap` and
+/// its stroke into `edge_pixmap`, both in `ink`: with opaque white over transparent
+/// pixmaps, the alpha of each is the coverage, as sprites keep it.
+pub fn fill_turned_apart(
+    fill_pixmap: &mut Pixmap,
+    edge_pixmap: &mut Pixmap,
+    fill: &[Point],
+    ring: &Ring,
+    at: tiny_skia::Transform,
+    ink: Ink,
+) {
+    turned(fill_pixmap, Some(edge_pixmap), fill, ring, at, [ink, ink]);
+}
+
+/// The fill of [`fill_turned`] into `pixmap`, then the stroke into `edge_pixmap` or,
+/// without one, over the fill.
+fn turned(
+    pixmap: &mut Pixmap,
+    edge_pixmap: Option<&mut Pixmap>,
+    fill: &[Point],
+    ring: &Ring,
+    at: tiny_skia::Transform,
+    [fill_ink, edge_ink]: [Ink; 2],
+) {
+    TURNED.with(|buffers| {
+        let (scratch, [f, o, i]) = &mut *buffers.borrow_mut();
+        let mut place = |from: &[Point], to: &mut Vec<Point>| {
+            scratch.clear();
+            scratch.extend(from.iter().map(|&(x, y)| tiny_skia::Point::from_xy(x, y)));
+            at.map_points(scratch);
+            to.clear();
+            to.extend(scratch.iter().map(|p| (p.x, p.y)));
+        };
+        place(fill, f);
+        place(&ring.outer, o);
+        place(ring.inner.as_deref().unwrap_or(&[]), i);
+        // The fill, then the stroke over it.
+        CONVEX.with(|c| {
+            let c = &mut *c.borrow_mut();
+            c.chains.set(f, &[]);
+            blend_convex(pixmap, &mut c.chains, fill_ink);
+            c.chains.set(o, i);
+            blend_convex(edge_pixmap.unwrap_or(pixmap), &mut c.chains, edge_ink);
+        });
+    });
+}
