@@ -5,6 +5,7 @@
 
 use crate::numbers::Readable;
 use crate::scene::Scene;
+use crate::sim::contacts::IMPACTS_PER_BODY;
 use crate::sim::{BlowUp, Simulation, MAX_ADAPTIVE_STEPS_PER_ADVANCE, STIFF};
 use crate::study::stability::stable_step_hint;
 
@@ -76,6 +77,12 @@ pub fn blow_up_message(scene: &Scene, b: &BlowUp) -> String {
             Readable(scene.simulation.tolerances.atol)
         );
     }
+    if let Some(o) = b.overlap.filter(|o| o.crowded) {
+        return format!(
+            "the simulation stopped: bodies `{}` and `{}` overlap by {:e} after step {} (t = {}), deeper than their contact tolerance, because the step met more impacts than it answers ({IMPACTS_PER_BODY} per colliding body): a crowd of bodies was struck faster than impulses one pair at a time can settle it; integrator {integrator}, dt = {}\nhint: start the bodies closer to where they come to rest (pour them from lower, or fewer at a time), or give them lower speeds",
+            scene.bodies[o.a].name, scene.bodies[o.b].name, o.depth, b.step, Readable(b.t), scene.simulation.dt
+        );
+    }
     if let Some(o) = b.overlap {
         return format!(
             "the simulation stopped: bodies `{}` and `{}` overlap by {:e} after step {} (t = {}), deeper than their contact tolerance; integrator {integrator}, dt = {}\nhint: a smaller dt, or a larger [contacts] `tolerance`, lets the contacts keep them apart",
@@ -105,4 +112,65 @@ pub fn blow_up_message(scene: &Scene, b: &BlowUp) -> String {
         Readable(b.t),
         Readable(scene.simulation.dt)
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use super::*;
+    use crate::sim::contacts::Overlap;
+
+    const TWO_DISCS: &str = r#"
+[simulation]
+dt = 0.01
+duration = 1.0
+[render]
+fps = 25
+view = { min = [-2.0, -2.0], max = [2.0, 2.0] }
+[contacts]
+[[body]]
+name = "upper"
+mass = 1.0
+position = [0.0, 1.0]
+shape = { circle = { radius = 0.5 } }
+[[body]]
+name = "lower"
+mass = 1.0
+position = [0.0, 0.0]
+shape = { circle = { radius = 0.5 } }
+"#;
+
+    fn overlap(crowded: bool) -> BlowUp {
+        BlowUp {
+            body: 0,
+            step: 7,
+            t: 0.07,
+            quantity: crate::sim::OVERLAP,
+            overlap: Some(Overlap {
+                a: 0,
+                b: 1,
+                depth: 0.25,
+                crowded,
+            }),
+        }
+    }
+
+    /// An overlap names both bodies, the step and the depth; one left because the
+    /// step ran out of impacts says so and asks for a gentler start, not a smaller dt.
+    #[test]
+    fn an_overlap_says_whether_the_step_ran_out_of_impacts() {
+        let scene = crate::scene::parse(Path::new("two.toml"), TWO_DISCS).expect("a valid scene");
+        let plain = blow_up_message(&scene, &overlap(false));
+        assert!(plain.contains("bodies `upper` and `lower` overlap by 2.5e-1 after step 7"));
+        assert!(plain.contains("a smaller dt"), "{plain}");
+        let crowded = blow_up_message(&scene, &overlap(true));
+        assert!(crowded.contains("bodies `upper` and `lower` overlap by 2.5e-1 after step 7"));
+        assert!(crowded.contains(&format!("({IMPACTS_PER_BODY} per colliding body)")));
+        assert!(
+            crowded.contains("closer to where they come to rest"),
+            "{crowded}"
+        );
+        assert!(!crowded.contains("a smaller dt"), "{crowded}");
+    }
 }

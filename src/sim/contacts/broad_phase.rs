@@ -52,7 +52,16 @@ impl BroadPhase {
         pairs.sort_unstable();
     }
 
-    /// Writes into `out` every collider whose swept box, as built, overlaps `query`.
+    /// Moves collider `k`'s leaf to the box `b` (a body struck within the step sweeps
+    /// less, or elsewhere), growing the nodes above it as far as they must still hold
+    /// it, so that a query sees every collider's latest box. The nodes may stay larger
+    /// than they need; the next step's refit makes them tight again.
+    pub fn update(&mut self, k: usize, b: Aabb) {
+        self.boxes[k] = b;
+        self.tree.insert(b, k as u32);
+    }
+
+    /// Writes into `out` every collider whose latest swept box overlaps `query`.
     pub fn query(&self, query: &Aabb, out: &mut Vec<u32>) {
         out.clear();
         out.extend(self.tree.intersect_aabb(query));
@@ -75,10 +84,4 @@ pub fn swept_box(c: &Collider, path: &Path, margin: f64) -> Aabb {
     };
     let m = DVec2::splat(margin);
     Aabb::new(to_parry(lo - m), to_parry(hi + m))
-}
-
-/// Returns true when two boxes overlap (touching counts).
-#[inline]
-pub fn overlap(a: &Aabb, b: &Aabb) -> bool {
-    a.mins.x <= b.maxs.x && b.mins.x <= a.maxs.x && a.mins.y <= b.maxs.y && b.mins.y <= a.maxs.y
 }

@@ -50,6 +50,15 @@ pub use narrow_phase::{Contact, Pose};
 
 use response::Inverse;
 
+/// Impacts in one step, per colliding body, past which the step stops searching for
+/// more and leaves what is left to the resting contacts at its end and the overlap
+/// check. Two bodies that stay in contact while they turn against each other (a box
+/// rocking on another with e < 1) need a contact force for as long as they touch, which
+/// impulses can only approach by ever more, ever smaller bounces: that is resting
+/// contact, which a contact solver answers, not impacts. A violent scene meets about
+/// one impact per body per step.
+pub const IMPACTS_PER_BODY: usize = 8;
+
 /// The default contact tolerance as a fraction of the smaller body's size (its least
 /// width): two bodies closer than this count as touching.
 pub const DEFAULT_TOLERANCE: f64 = 1e-6;
@@ -122,6 +131,10 @@ pub struct Overlap {
     pub b: usize,
     /// How deep they overlap (positive).
     pub depth: f64,
+    /// Whether the step met its budget of impacts (`IMPACTS_PER_BODY` per body) and
+    /// stopped answering them: a crowd struck faster than impulses one pair at a time
+    /// can settle, rather than a step too long for the contacts.
+    pub crowded: bool,
 }
 
 /// The colliding bodies of a scene and the stages' reusable buffers.

@@ -8,12 +8,12 @@ use std::collections::BinaryHeap;
 use glam::DVec2;
 use parry2d_f64::bounding_volume::Aabb;
 
-use super::broad_phase::{overlap, swept_box, BroadPhase};
+use super::broad_phase::{swept_box, BroadPhase};
 use super::narrow_phase::{contact, Contact, Pose};
 use super::response::{closes, collide, normal_velocity, strike_point, Inverse, Side};
 use super::solver::{self, effective_mass, Manifold, Point, Velocities};
 use super::toi::{time_of_impact, Path};
-use super::{inverse, ContactEvent, Contacts, Overlap};
+use super::{inverse, ContactEvent, Contacts, Overlap, IMPACTS_PER_BODY};
 use crate::sim::rigid::perp_dot;
 use crate::sim::{State, System};
 
@@ -28,15 +28,6 @@ const MAX_END_SWEEPS: usize = 100;
 /// steps; a tenth of a body is far from passing through it.
 const OVERLAP_SLOPS: f64 = 4.0;
 const OVERLAP_SIZE: f64 = 0.1;
-
-/// Impacts in one step, per colliding body, past which the step stops searching for
-/// more and leaves what is left to the resting contacts at its end and the overlap
-/// check. Two bodies that stay in contact while they turn against each other (a box
-/// rocking on another with e < 1) need a contact force for as long as they touch, which
-/// impulses can only approach by ever more, ever smaller bounces: that is resting
-/// contact, which a contact solver answers, not impacts. A violent scene meets about
-/// one impact per body per step.
-const IMPACTS_PER_BODY: usize = 8;
 
 /// The buffers of a step's contact stages, kept between steps so that a step
 /// allocates nothing once they have grown.
@@ -197,6 +188,7 @@ impl Contacts {
         // 3. Impacts in time order.
         let cap = IMPACTS_PER_BODY * n + 1_000;
         let mut impacts = 0usize;
+        let mut exhausted = false;
         while let Some(Reverse(ev)) = s.heap.pop() {
             let (i, j) = (ev.i as usize, ev.j as usize);
             if ev.vi != s.version[i] || ev.vj != s.version[j] {
@@ -224,6 +216,7 @@ impl Contacts {
             };
             impacts += 1;
             if impacts > cap {
+                exhausted = true;
                 break;
             }
             let e = colliders[i].restitution.max(colliders[j].restitution);
@@ -346,6 +339,7 @@ impl Contacts {
                     a: bi,
                     b: bj,
                     depth: -ct.gap,
+                    crowded: exhausted,
                 });
             }
             s.touching.push((i, j, ct));
@@ -551,19 +545,16 @@ fn requery(
     rest: f64,
 ) {
     let bx = swept_box(&colliders[k], &s.paths[k], margin(k));
-    s.boxes[k] = bx;
     if !s.changed[k] {
         s.changed[k] = true;
         s.changed_list.push(k as u32);
     }
+    // The tree holds every collider's latest box (struck ones' too), so one query
+    // finds all it may meet, at a cost that does not grow with how many were struck.
+    s.broad.update(k, bx);
     s.broad.query(&bx, &mut s.query);
     let mut others = std::mem::take(&mut s.query);
-    others.retain(|&m| m as usize != k && !s.changed[m as usize]);
-    for &m in &s.changed_list {
-        if m as usize != k && overlap(&bx, &s.boxes[m as usize]) {
-            others.push(m);
-        }
-    }
+    others.retain(|&m| m as usize != k);
     for &m in &others {
         let m = m as usize;
         if immovable(&s.inv[k]) && immovable(&s.inv[m]) {
@@ -628,6 +619,7 @@ pub(super) fn overlaps(
                     a: ci.body,
                     b: cj.body,
                     depth: -ct.gap,
+                    crowded: false,
                 });
             }
         }
