@@ -96,15 +96,22 @@ impl Velocities<'_> {
         (self.vel[b], if self.spins { self.omega[b] } else { 0.0 })
     }
 
-    /// Applies the impulse p at arms (ra, rb): +p to body a, -p to body b.
-    fn apply(&mut self, m: &Manifold, inv: (Inverse, Inverse), ra: DVec2, rb: DVec2, p: DVec2) {
+    /// Applies the impulse p at arms (ra, rb) of the bodies (a, b): +p to a, -p to b.
+    fn apply(
+        &mut self,
+        (a, b): (usize, usize),
+        inv: (Inverse, Inverse),
+        ra: DVec2,
+        rb: DVec2,
+        p: DVec2,
+    ) {
         let (ia, ib) = inv;
         // v_A += p/M_A, ω_A += (r_A⊥·p)/I_A; the opposite on B.
-        self.vel[m.bi] += ia.mass * p;
-        self.vel[m.bj] -= ib.mass * p;
+        self.vel[a] += ia.mass * p;
+        self.vel[b] -= ib.mass * p;
         if self.spins {
-            self.omega[m.bi] += ia.inertia * perp_dot(ra, p);
-            self.omega[m.bj] -= ib.inertia * perp_dot(rb, p);
+            self.omega[a] += ia.inertia * perp_dot(ra, p);
+            self.omega[b] -= ib.inertia * perp_dot(rb, p);
         }
     }
 
@@ -148,8 +155,7 @@ pub fn solve(
                 m.points[k].pn = pn;
                 m.points[k].pt = pt;
                 let p = m.points[k];
-                let copy = *m;
-                v.apply(&copy, pair, p.ra, p.rb, pn * m.normal + pt * t);
+                v.apply((m.bi, m.bj), pair, p.ra, p.rb, pn * m.normal + pt * t);
             }
         }
     }
@@ -198,8 +204,7 @@ fn solve_friction(m: &mut Manifold, inv: (Inverse, Inverse), v: &mut Velocities<
         let applied = total - p.pt;
         m.points[k].pt = total;
         change = change.max(applied.abs());
-        let copy = *m;
-        v.apply(&copy, inv, p.ra, p.rb, applied * t);
+        v.apply((m.bi, m.bj), inv, p.ra, p.rb, applied * t);
     }
     change
 }
@@ -223,8 +228,7 @@ fn solve_normal(m: &mut Manifold, inv: (Inverse, Inverse), v: &mut Velocities<'_
         let applied = total - p.pn;
         m.points[k].pn = total;
         change = change.max(applied.abs());
-        let copy = *m;
-        v.apply(&copy, inv, p.ra, p.rb, applied * n);
+        v.apply((m.bi, m.bj), inv, p.ra, p.rb, applied * n);
     }
     change
 }
@@ -276,9 +280,8 @@ fn solve_block(m: &mut Manifold, inv: (Inverse, Inverse), v: &mut Velocities<'_>
     let (d1, d2) = (x1 - a1, x2 - a2);
     m.points[0].pn = x1;
     m.points[1].pn = x2;
-    let copy = *m;
-    v.apply(&copy, inv, p1.ra, p1.rb, d1 * n);
-    v.apply(&copy, inv, p2.ra, p2.rb, d2 * n);
+    v.apply((m.bi, m.bj), inv, p1.ra, p1.rb, d1 * n);
+    v.apply((m.bi, m.bj), inv, p2.ra, p2.rb, d2 * n);
     Some(d1.abs().max(d2.abs()))
 }
 
