@@ -545,7 +545,7 @@ impl Renderer {
                 // orientation line.
                 (Some(sprite), Some(theta)) => {
                     sprite.stamp(pixmap, x, y);
-                    look.body.draw_orientation(pixmap, x, y, theta);
+                    look.body.draw_orientation_fast(pixmap, x, y, theta);
                 }
                 // A turning convex outline goes through the scan converter, when many
                 // bodies do.
