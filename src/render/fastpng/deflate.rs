@@ -107,6 +107,17 @@ impl<'c> Deflate<'c> {
     /// literals, and the zeros they end with start the next run.
     #[inline]
     pub(super) fn bytes(&mut self, data: &[u8]) {
+        self.bytes_marked::<false>(data);
+    }
+
+    /// Compresses bytes as [`Deflate::bytes`] does (the same bits), and, when `MARK`,
+    /// returns the bit position of the first literal, after the run before it: where
+    /// the bits that stand for `data` alone begin (`usize::MAX` when every byte is
+    /// zero). Trailing zeros stay in the run, so afterwards the bit position is the end
+    /// of the last literal.
+    #[inline]
+    pub(super) fn bytes_marked<const MARK: bool>(&mut self, data: &[u8]) -> usize {
+        let mut mark = usize::MAX;
         // The run is counted in a local, which stays in a register through the runs
         // of zero words that make up most of a filtered frame; it goes back into
         // `self.run` only to be written.
@@ -126,6 +137,9 @@ impl<'c> Deflate<'c> {
             if word.wrapping_sub(ONES) & !word & TOPS == 0 {
                 self.run = run;
                 self.flush_run();
+                if MARK && mark == usize::MAX {
+                    mark = self.bit_position();
+                }
                 self.four(&chunk[..4]);
                 self.four(&chunk[4..]);
                 run = 0;
@@ -135,6 +149,9 @@ impl<'c> Deflate<'c> {
             let last = 7 - (word.leading_zeros() / 8) as usize;
             self.run = run + first;
             self.flush_run();
+            if MARK && mark == usize::MAX {
+                mark = self.bit_position();
+            }
             self.literals(&chunk[first..=last]);
             run = 7 - last;
         }
@@ -144,9 +161,13 @@ impl<'c> Deflate<'c> {
                 self.run += 1;
             } else {
                 self.flush_run();
+                if MARK && mark == usize::MAX {
+                    mark = self.bit_position();
+                }
                 self.literal(usize::from(b));
             }
         }
+        mark
     }
 
     /// Writes four bytes as literals in one write (codes are at most 15 bits).
