@@ -279,3 +279,42 @@ fn a_row_compressed_tile_by_tile_is_the_row_compressed_whole() {
     tiled.flush_run();
     assert_eq!(whole.into_bits(), tiled.into_bits());
 }
+
+#[test]
+fn bit_ranges_are_copied_bit_for_bit_from_any_offset_to_any_offset() {
+    // Long ranges take the word-at-a-time path, short ones the 56-bit one; both
+    // must append exactly the bits asked for, after any number of bits pending.
+    let codes = codes().expect("readable");
+    let source: Vec<u8> = (0..400u32)
+        .map(|i| (i.wrapping_mul(2_654_435_761) >> 13) as u8)
+        .collect();
+    let bit = |bytes: &[u8], i: usize| bytes[i / 8] >> (i % 8) & 1;
+    for pending in [0u32, 1, 7, 8, 13, 63] {
+        for (from, to) in [
+            (0, 3000),
+            (5, 2900),
+            (13, 530),
+            (8, 1032),
+            (3, 40),
+            (100, 100),
+        ] {
+            let mut w = Deflate::new(codes, Vec::new());
+            w.put((1 << pending) - 1, pending);
+            w.put_bit_range(&source, from, to);
+            let (out, bits) = w.into_bits();
+            assert_eq!(bits, pending as usize + to - from);
+            for i in 0..bits {
+                let expected = if i < pending as usize {
+                    1
+                } else {
+                    bit(&source, from + i - pending as usize)
+                };
+                assert_eq!(
+                    bit(&out, i),
+                    expected,
+                    "bit {i} of {from}..{to} after {pending}"
+                );
+            }
+        }
+    }
+}
