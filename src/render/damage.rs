@@ -228,10 +228,9 @@ impl TileMask {
         &self.bits[y * self.words..(y + 1) * self.words]
     }
 
-    /// Marks the tile of pixel index p (row p / width, column p % width).
+    /// Marks the tile of pixel (x, y).
     #[inline]
-    pub fn mark_pixel(&mut self, p: usize) {
-        let (y, x) = (p / self.width as usize, p % self.width as usize);
+    pub fn mark(&mut self, x: usize, y: usize) {
         let t = x / TILE_PIXELS as usize;
         self.bits[y * self.words + t / 64] |= 1 << (t % 64);
     }

@@ -181,6 +181,10 @@ impl TrailLayer {
                     raster::capsule(a, b, HALF_WIDTH, &mut self.outline);
                     let (coverage, owner) = (&mut self.coverage, &mut self.owner);
                     let changed = &mut self.changed;
+                    // The row of the last pixel marked: pixels come row after row, so
+                    // a row is found by division once, not once a pixel.
+                    let w = width as usize;
+                    let (mut row, mut row_start) = (0, 0);
                     let (base, layer) = (self.base.data_mut(), static_layer.data());
                     let trail = style.inks[ink as usize];
                     raster::cover_convex(width, height, &self.outline, |p, c| {
@@ -193,7 +197,11 @@ impl TrailLayer {
                             let k = 4 * p;
                             base[k..k + 4].copy_from_slice(&layer[k..k + 4]);
                             trail.blend(&mut base[k..k + 4], c);
-                            changed.mark_pixel(p);
+                            if p < row_start || p >= row_start + w {
+                                row = p / w;
+                                row_start = row * w;
+                            }
+                            changed.mark(p - row_start, row);
                         }
                     });
                 }
