@@ -25,9 +25,9 @@ use crate::history::{HistoryWriter, PointHistory};
 use crate::output::{self, Failure, Manifest, Timings};
 use tiny_skia::Pixmap;
 
-use crate::render::fastpng::StaticPng;
+use crate::render::fastpng::{FrameCoder, StaticPng};
 use crate::render::layers::TraceRecorder;
-use crate::render::trails::TrailLayer;
+use crate::render::trails::{TrailFrame, TrailLayer};
 use crate::render::{
     encode_png_into, ArrowScales, Compression, Damage, FrameView, Provenance, Renderer,
 };
@@ -297,6 +297,7 @@ fn render_full(
                     opaque,
                     static_png: static_png.as_ref(),
                     trails: None,
+                    trail_frame: None,
                 };
                 for job in receiver {
                     if stop.load(Ordering::Relaxed) {
@@ -513,8 +514,13 @@ struct Buffers<'a> {
     opaque: bool,
     /// The static layer's compressed tiles, for the default compression.
     static_png: Option<&'a StaticPng>,
-    /// The static layer with the trails so far, when frames show trails.
+    /// The static layer with the trails so far, when frames show trails and are not
+    /// encoded against the frame before.
     trails: Option<TrailLayer>,
+    /// With the default compression, frames with trails are encoded against the last
+    /// frame the worker drew: its trail layer and bodies, and the encoder that keeps
+    /// the last frame's bits.
+    trail_frame: Option<(TrailFrame, FrameCoder)>,
 }
 
 /// Draws, encodes and writes one frame, adding each stage's time to the clock.
@@ -541,6 +547,24 @@ fn draw_and_write(
         traces: job.traces.as_ref(),
         compare: job.compare.as_deref(),
     };
+    let provenance = provenance(scene, integrator, job.t, job.index);
+    let (width, height) = (buffers.pixmap.width(), buffers.pixmap.height());
+    // Frames with trails and the default compression: drawn and encoded against the
+    // last frame this worker drew. The PNG does not depend on which frame that was.
+    let incremental = job.trail.is_some() && buffers.static_png.is_some();
+    if incremental && buffers.trail_frame.is_none() {
+        buffers.trail_frame =
+            FrameCoder::new(width, height).map(|coder| (TrailFrame::new(width, height), coder));
+    }
+    if let (true, Some((state, coder))) = (incremental, &mut buffers.trail_frame) {
+        renderer.draw_trail_frame(&view, &mut buffers.pixmap, state);
+        let drawn = StageClock::add(&clock.draw, started);
+        let png = coder.encode(&buffers.pixmap, state.changed(), &provenance);
+        let encoded = StageClock::add(&clock.encode, drawn);
+        output::write_atomic(&dir.join(output::frame_file_name(job.index)), png)?;
+        StageClock::add(&clock.write, encoded);
+        return Ok(());
+    }
     renderer.draw_with_trails(
         &view,
         &mut buffers.pixmap,
@@ -548,7 +572,6 @@ fn draw_and_write(
         &mut buffers.trails,
     );
     let drawn = StageClock::add(&clock.draw, started);
-    let provenance = provenance(scene, integrator, job.t, job.index);
     match buffers.static_png {
         Some(encoder) => encoder.encode_damaged(
             &buffers.pixmap,

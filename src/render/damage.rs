@@ -5,8 +5,12 @@
 //! drawn into the same pixmap restores only those rectangles from the static layer
 //! instead of copying the whole layer, and the encoder compresses afresh only the tiles
 //! they cover, copying the static layer's compressed bits everywhere else. A frame that
-//! draws anything whose extent is not tracked (trails, arrows, overlays) is damaged
-//! whole, and both stages then do what they would do without damage.
+//! draws anything whose extent is not tracked (arrows, overlays) is damaged whole, and
+//! both stages then do what they would do without damage.
+//!
+//! Frames with trails are compared with the frame before instead of the static layer:
+//! a [`TileMask`] marks the tiles of 8 pixels where the trail layer gained segments and
+//! where the bodies of either frame lie, and the frame coder compresses only those.
 //!
 //! The invariant: every pixel outside the damage equals the static layer's pixel. The
 //! damage is a superset of what was drawn, never a subset; a rectangle too large costs
@@ -28,6 +32,8 @@ pub struct Damage {
     /// The sum of the rectangles' areas, in pixels.
     area: u64,
     whole: bool,
+    /// Whether rectangles over a quarter of the frame make the damage whole.
+    bounded: bool,
 }
 
 impl Default for Damage {
@@ -37,6 +43,7 @@ impl Default for Damage {
             rects: Vec::new(),
             area: 0,
             whole: false,
+            bounded: true,
         }
     }
 }
@@ -45,9 +52,18 @@ impl Damage {
     /// Damage everywhere: nothing is known about the pixmap.
     pub fn whole() -> Self {
         Damage {
-            rects: Vec::new(),
-            area: 0,
             whole: true,
+            ..Damage::default()
+        }
+    }
+
+    /// No damage, and rectangles that never make it whole however much they cover:
+    /// for a frame encoded tile by tile against the frame before
+    /// ([`crate::render::fastpng::FrameCoder`]), where the rectangles only mark tiles.
+    pub fn unbounded() -> Self {
+        Damage {
+            bounded: false,
+            ..Damage::default()
         }
     }
 
@@ -93,7 +109,7 @@ impl Damage {
         };
         if rect.x0 < rect.x1 && rect.y0 < rect.y1 {
             self.area += u64::from(rect.x1 - rect.x0) * u64::from(rect.y1 - rect.y0);
-            if 4 * self.area > u64::from(width) * u64::from(height) {
+            if self.bounded && 4 * self.area > u64::from(width) * u64::from(height) {
                 self.set_whole();
             } else {
                 self.rects.push(rect);
@@ -150,6 +166,110 @@ impl Damage {
         // Clamped to a range where `as i64` is exact, then to the frame.
         let int = |v: f32| v.clamp(-1.0e9, 1.0e9) as i64;
         self.add_rect((int(x0), int(y0), int(x1), int(y1)), width, height);
+    }
+}
+
+/// Pixels of 8 along a row that may differ between two frames: one bit per tile of 8
+/// pixels (bit t % 64 of word t / 64 of the row), row by row. Eight pixels are one
+/// tile of the PNG encoder's filtered rows, so the mask says directly which tiles it
+/// must compress afresh.
+#[derive(Clone, Debug)]
+pub struct TileMask {
+    width: u32,
+    height: u32,
+    /// Words per row.
+    words: usize,
+    bits: Vec<u64>,
+    /// Set when nothing is known: every tile may differ.
+    whole: bool,
+}
+
+/// Pixels per tile of a [`TileMask`].
+pub const TILE_PIXELS: u32 = 8;
+
+impl TileMask {
+    /// A mask of a frame `width` × `height`, every tile marked (nothing is known yet).
+    pub fn new(width: u32, height: u32) -> Self {
+        let words = (width.div_ceil(TILE_PIXELS) as usize).div_ceil(64);
+        TileMask {
+            width,
+            height,
+            words,
+            bits: vec![0; words * height as usize],
+            whole: true,
+        }
+    }
+
+    /// Returns true when every tile is marked.
+    pub fn is_whole(&self) -> bool {
+        self.whole
+    }
+
+    /// Marks every tile.
+    pub fn set_whole(&mut self) {
+        self.whole = true;
+    }
+
+    /// Unmarks every tile.
+    pub fn clear(&mut self) {
+        self.bits.fill(0);
+        self.whole = false;
+    }
+
+    /// The frame's width and height.
+    pub fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+
+    /// Row y's bits (all ones when the mask is whole is not reflected here: check
+    /// [`TileMask::is_whole`] first).
+    #[inline]
+    pub fn row(&self, y: usize) -> &[u64] {
+        &self.bits[y * self.words..(y + 1) * self.words]
+    }
+
+    /// Marks the tile of pixel (x, y).
+    #[inline]
+    pub fn mark(&mut self, x: usize, y: usize) {
+        let t = x / TILE_PIXELS as usize;
+        self.bits[y * self.words + t / 64] |= 1 << (t % 64);
+    }
+
+    /// Marks every tile that pixels of `r` fall in.
+    pub fn add_rect(&mut self, r: PixelRect) {
+        let x1 = r.x1.min(self.width);
+        if r.x0 >= x1 {
+            return;
+        }
+        let (t0, t1) = (
+            (r.x0 / TILE_PIXELS) as usize,
+            x1.div_ceil(TILE_PIXELS) as usize,
+        );
+        for y in r.y0 as usize..(r.y1.min(self.height)) as usize {
+            let row = &mut self.bits[y * self.words..(y + 1) * self.words];
+            for t in t0..t1 {
+                row[t / 64] |= 1 << (t % 64);
+            }
+        }
+    }
+
+    /// Marks every tile of `damage`: all of them when it is whole.
+    pub fn add_damage(&mut self, damage: &Damage) {
+        if damage.is_whole() {
+            self.whole = true;
+            return;
+        }
+        for r in damage.rects() {
+            self.add_rect(*r);
+        }
+    }
+
+    /// Marks every tile `other` marks (a mask of the same size).
+    pub fn add_mask(&mut self, other: &TileMask) {
+        self.whole |= other.whole;
+        for (a, b) in self.bits.iter_mut().zip(&other.bits) {
+            *a |= b;
+        }
     }
 }
 

@@ -42,8 +42,9 @@ use crate::history::PointHistory;
 use crate::scene::Scene;
 use bodies::{draw_arrow, draw_arrow_path};
 use clip::ClipRect;
+use damage::TileMask;
 use looks::Look;
-use trails::{TrailLayer, TrailStyle};
+use trails::{TrailFrame, TrailLayer, TrailStyle};
 
 /// The state of one frame, as the renderer sees it.
 #[derive(Clone, Copy, Debug)]
@@ -419,6 +420,68 @@ impl Renderer {
         }
     }
 
+    /// Draws one frame with trails for a worker that encodes each frame against the
+    /// last one it drew ([`fastpng::FrameCoder`]): `pixmap` holds the last frame drawn
+    /// with `state` (or anything, before the first), and afterwards holds this frame,
+    /// the pixels of [`Renderer::draw_into`], while `state.changed()` marks the tiles
+    /// where it may differ from the last frame.
+    ///
+    /// The worker's trail layer gains the segments since its last frame and marks the
+    /// tiles they changed; the pixmap is brought to the layer by copying those tiles and
+    /// the last frame's bodies' rectangles from it, and the bodies are drawn over it,
+    /// their rectangles kept for the next frame. A frame that draws more than bodies
+    /// over the trails (arrows, springs, overlays, a plot's margins) marks every tile.
+    pub fn draw_trail_frame(
+        &self,
+        frame: &FrameView<'_>,
+        pixmap: &mut Pixmap,
+        state: &mut TrailFrame,
+    ) {
+        assert_eq!(
+            (pixmap.width(), pixmap.height()),
+            (self.width, self.height),
+            "draw_trail_frame needs a pixmap the size of the frame"
+        );
+        let Some(history) = frame.trail else {
+            self.draw_into(frame, pixmap);
+            state.bodies.set_whole();
+            state.changed.set_whole();
+            return;
+        };
+        let layer = state.layer.get_or_insert_with(|| self.new_trail_layer());
+        layer.advance(
+            &self.trails,
+            &self.camera,
+            &self.clip,
+            &self.static_layer,
+            history,
+        );
+        // Where the pixmap differs from the layer now: where the layer changed, and
+        // under the last frame's bodies.
+        state.changed.clear();
+        layer.take_changed(&mut state.changed);
+        state.changed.add_damage(&state.bodies);
+        if state.changed.is_whole() {
+            pixmap.data_mut().copy_from_slice(layer.base().data());
+        } else {
+            copy_tiles(pixmap, layer.base(), &state.changed);
+        }
+        let bodies_only = self.springs.is_none()
+            && frame.compare.is_none()
+            && self.arrow_bodies.is_empty()
+            && !self.overlay.draws_over_frames()
+            && self.overlay.body_area().is_none();
+        if bodies_only {
+            state.bodies.clear();
+            self.draw_bodies(frame, pixmap, Some(&mut state.bodies));
+            state.changed.add_damage(&state.bodies);
+        } else {
+            self.draw_moving(frame, pixmap);
+            state.bodies.set_whole();
+            state.changed.set_whole();
+        }
+    }
+
     /// Makes `pixmap` a copy of the static layer again, rewriting only its damage.
     fn restore(&self, pixmap: &mut Pixmap, damage: &Damage) {
         if damage.is_whole() {
@@ -555,6 +618,25 @@ impl Renderer {
                 (None, Some(theta)) => look.body.draw_turned(pixmap, x, y, theta),
                 (None, None) => look.body.draw(pixmap, x, y),
             }
+        }
+    }
+}
+
+/// Copies the pixels of the tiles `mask` marks from `from` into `to`, two pixmaps of
+/// the mask's size.
+fn copy_tiles(to: &mut Pixmap, from: &Pixmap, mask: &TileMask) {
+    let stride = 4 * to.width() as usize;
+    let tile = 4 * damage::TILE_PIXELS as usize;
+    let tiles = stride.div_ceil(tile);
+    let (from, to) = (from.data(), to.data_mut());
+    for y in 0..to.len() / stride.max(1) {
+        let row = mask.row(y);
+        let mut t = fastpng::next_bit(row, 0, true);
+        while t < tiles {
+            let end = fastpng::next_bit(row, t, false).min(tiles);
+            let (a, b) = (y * stride + t * tile, y * stride + (end * tile).min(stride));
+            to[a..b].copy_from_slice(&from[a..b]);
+            t = fastpng::next_bit(row, end, true);
         }
     }
 }

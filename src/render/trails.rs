@@ -28,6 +28,7 @@ use tiny_skia::Pixmap;
 
 use super::camera::Camera;
 use super::clip::ClipRect;
+use super::damage::TileMask;
 use super::raster;
 use super::sprite::Ink;
 use crate::history::PointHistory;
@@ -65,6 +66,39 @@ impl TrailStyle {
     }
 }
 
+/// What a worker keeps to draw frames with trails that it encodes against the frame
+/// before ([`crate::render::fastpng::FrameCoder`]): its trail layer, the rectangles of
+/// the bodies it last drew, and the tiles where its pixmap changed with the last frame
+/// ([`crate::render::Renderer::draw_trail_frame`]).
+pub struct TrailFrame {
+    pub(super) layer: Option<TrailLayer>,
+    /// The rectangles of the bodies drawn over the layer in the last frame (whole when
+    /// something else was drawn, or nothing is known).
+    pub(super) bodies: super::Damage,
+    /// The tiles of pixels where the last frame drawn may differ from the one before.
+    pub(super) changed: TileMask,
+}
+
+impl TrailFrame {
+    /// A worker's state before its first frame of `width` × `height`: nothing is known
+    /// of its pixmap.
+    pub fn new(width: u32, height: u32) -> Self {
+        let mut bodies = super::Damage::unbounded();
+        bodies.set_whole();
+        TrailFrame {
+            layer: None,
+            bodies,
+            changed: TileMask::new(width, height),
+        }
+    }
+
+    /// The tiles of pixels where the last frame drawn may differ from the frame drawn
+    /// before it into the same pixmap (every tile after the first frame).
+    pub fn changed(&self) -> &TileMask {
+        &self.changed
+    }
+}
+
 /// A worker's layer of trails: the static layer with every trail so far over it.
 #[derive(Clone)]
 pub struct TrailLayer {
@@ -77,6 +111,9 @@ pub struct TrailLayer {
     frames: usize,
     /// The points of one segment's outline, reused.
     outline: Vec<raster::Point>,
+    /// The tiles where `base` changed since [`TrailLayer::take_changed`] last took them
+    /// (every tile, for a new or restarted layer).
+    changed: TileMask,
 }
 
 impl TrailLayer {
@@ -89,7 +126,16 @@ impl TrailLayer {
             owner: vec![0; n],
             frames: 0,
             outline: Vec::new(),
+            changed: TileMask::new(static_layer.width(), static_layer.height()),
         }
+    }
+
+    /// Adds to `mask` the tiles where the layer changed since this was last called
+    /// (every tile, the first time and after the layer started again), and forgets
+    /// them.
+    pub fn take_changed(&mut self, mask: &mut TileMask) {
+        mask.add_mask(&self.changed);
+        self.changed.clear();
     }
 
     /// Returns the static layer with the trails so far over it.
@@ -114,6 +160,7 @@ impl TrailLayer {
             self.coverage.fill(0);
             self.owner.fill(0);
             self.frames = 0;
+            self.changed.set_whole();
         }
         let (width, height) = (self.base.width(), self.base.height());
         let mut previous: Option<&[DVec2]> = self
@@ -133,6 +180,11 @@ impl TrailLayer {
                     };
                     raster::capsule(a, b, HALF_WIDTH, &mut self.outline);
                     let (coverage, owner) = (&mut self.coverage, &mut self.owner);
+                    let changed = &mut self.changed;
+                    // The row of the last pixel marked: pixels come row after row, so
+                    // a row is found by division once, not once a pixel.
+                    let w = width as usize;
+                    let (mut row, mut row_start) = (0, 0);
                     let (base, layer) = (self.base.data_mut(), static_layer.data());
                     let trail = style.inks[ink as usize];
                     raster::cover_convex(width, height, &self.outline, |p, c| {
@@ -145,6 +197,11 @@ impl TrailLayer {
                             let k = 4 * p;
                             base[k..k + 4].copy_from_slice(&layer[k..k + 4]);
                             trail.blend(&mut base[k..k + 4], c);
+                            if p < row_start || p >= row_start + w {
+                                row = p / w;
+                                row_start = row * w;
+                            }
+                            changed.mark(p - row_start, row);
                         }
                     });
                 }

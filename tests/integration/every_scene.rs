@@ -237,7 +237,7 @@ fn turning_circles_orientation_lines_from_the_scan_converter_look_like_their_pat
 /// A scene of `count` bodies written one `[[body]]` table each, as a user writes them:
 /// default colours, shapes in an order that does not repeat with the colours, some
 /// turning, every `arrows`-th showing its velocity, with trails when asked.
-fn user_scene(count: usize, arrows: usize, trails: bool, turning: bool) -> String {
+pub(crate) fn user_scene(count: usize, arrows: usize, trails: bool, turning: bool) -> String {
     let mut text = format!(
         "[simulation]\nduration = 2.0\n[render]\nwidth = 320\nheight = 180\nfps = 20\ntrails = {trails}\nview = {{ min = [0.0, 0.0], max = [16.0, 9.0] }}\n"
     );
@@ -313,7 +313,7 @@ fn scenes_written_as_users_write_them_give_the_same_bytes_with_one_and_two_threa
 
 /// The positions of a scene's bodies at each of its first `frames` frames, as the
 /// pipeline's trail history holds them.
-fn trail_history(
+pub(crate) fn trail_history(
     s: &physframes::scene::Scene,
     frames: u64,
 ) -> Vec<physframes::history::PointHistory> {

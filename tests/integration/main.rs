@@ -22,5 +22,6 @@ mod rotation;
 mod run_length;
 mod shards;
 mod studies;
+mod trail_frames;
 mod uniform_step;
 mod util;

@@ -71,7 +71,9 @@ impl<'c> Deflate<'c> {
     }
 
     /// Appends bits `from..to` of `bytes` (bit i is bit i % 8 of byte i / 8), which
-    /// must hold eight bytes past them: 56 at a time, from unaligned 64-bit reads.
+    /// must hold eight bytes past them. A long range is copied a word at a time once
+    /// the output is on a byte (see [`Deflate::put_bytes_shifted`]); what is left, 56
+    /// bits at a time from unaligned 64-bit reads.
     #[inline]
     pub(super) fn put_bit_range(&mut self, bytes: &[u8], from: usize, to: usize) {
         let word_at = |bit: usize| {
@@ -84,6 +86,19 @@ impl<'c> Deflate<'c> {
         };
         const CHUNK: usize = 56;
         let mut bit = from;
+        // Worth the set-up from a few hundred bits on.
+        if to - bit >= 512 {
+            // Bits up to the output's next byte, then the pending whole bytes out.
+            let k = ((8 - self.n % 8) % 8) as usize;
+            self.put(word_at(bit) & ((1 << k) - 1), k as u32);
+            bit += k;
+            self.out
+                .extend_from_slice(&self.acc.to_le_bytes()[..(self.n / 8) as usize]);
+            (self.acc, self.n) = (0, 0);
+            let count = (to - bit) / 64;
+            self.put_bytes_shifted(bytes, bit, count);
+            bit += 64 * count;
+        }
         while to - bit >= CHUNK {
             self.put(word_at(bit) & ((1 << CHUNK) - 1), CHUNK as u32);
             bit += CHUNK;
@@ -91,6 +106,37 @@ impl<'c> Deflate<'c> {
         let rest = to - bit;
         if rest > 0 {
             self.put(word_at(bit) & ((1 << rest) - 1), rest as u32);
+        }
+    }
+
+    /// Appends `count` 64-bit words of `bytes` starting at bit `from`, to an output
+    /// that is on a whole byte with no bits pending: word i is
+    /// w_i = (x_i >> s) | (x_{i+1} << (64 - s)), x_i the little-endian word at byte
+    /// from / 8 + 8·i and s = from % 8, which reads one word past the last (the eight
+    /// bytes past the range that callers keep).
+    fn put_bytes_shifted(&mut self, bytes: &[u8], from: usize, count: usize) {
+        let (at, s) = (from / 8, (from % 8) as u32);
+        let start = self.out.len();
+        self.out.resize(start + 8 * count, 0);
+        let out = &mut self.out[start..];
+        if s == 0 {
+            out.copy_from_slice(&bytes[at..at + 8 * count]);
+            return;
+        }
+        let src = &bytes[at..];
+        let word = |i: usize| {
+            let b: [u8; 8] = src[8 * i..8 * i + 8].try_into().unwrap_or_default();
+            u64::from_le_bytes(b)
+        };
+        // One byte past the words: enough for the last word's high bits.
+        let past = |i: usize| u64::from(src.get(8 * i).copied().unwrap_or(0));
+        for (i, o) in out.chunks_exact_mut(8).enumerate() {
+            let high = if i + 1 < count {
+                word(i + 1)
+            } else {
+                past(i + 1)
+            };
+            o.copy_from_slice(&((word(i) >> s) | (high << (64 - s))).to_le_bytes());
         }
     }
 
@@ -107,6 +153,17 @@ impl<'c> Deflate<'c> {
     /// literals, and the zeros they end with start the next run.
     #[inline]
     pub(super) fn bytes(&mut self, data: &[u8]) {
+        self.bytes_marked::<false>(data);
+    }
+
+    /// Compresses bytes as [`Deflate::bytes`] does (the same bits), and, when `MARK`,
+    /// returns the bit position of the first literal, after the run before it: where
+    /// the bits that stand for `data` alone begin (`usize::MAX` when every byte is
+    /// zero). Trailing zeros stay in the run, so afterwards the bit position is the end
+    /// of the last literal.
+    #[inline]
+    pub(super) fn bytes_marked<const MARK: bool>(&mut self, data: &[u8]) -> usize {
+        let mut mark = usize::MAX;
         // The run is counted in a local, which stays in a register through the runs
         // of zero words that make up most of a filtered frame; it goes back into
         // `self.run` only to be written.
@@ -126,6 +183,9 @@ impl<'c> Deflate<'c> {
             if word.wrapping_sub(ONES) & !word & TOPS == 0 {
                 self.run = run;
                 self.flush_run();
+                if MARK && mark == usize::MAX {
+                    mark = self.bit_position();
+                }
                 self.four(&chunk[..4]);
                 self.four(&chunk[4..]);
                 run = 0;
@@ -135,6 +195,9 @@ impl<'c> Deflate<'c> {
             let last = 7 - (word.leading_zeros() / 8) as usize;
             self.run = run + first;
             self.flush_run();
+            if MARK && mark == usize::MAX {
+                mark = self.bit_position();
+            }
             self.literals(&chunk[first..=last]);
             run = 7 - last;
         }
@@ -144,9 +207,13 @@ impl<'c> Deflate<'c> {
                 self.run += 1;
             } else {
                 self.flush_run();
+                if MARK && mark == usize::MAX {
+                    mark = self.bit_position();
+                }
                 self.literal(usize::from(b));
             }
         }
+        mark
     }
 
     /// Writes four bytes as literals in one write (codes are at most 15 bits).

@@ -156,32 +156,7 @@ impl StaticPng {
     ) {
         let stride = 4 * self.width as usize;
         let tiles_per_row = stride.div_ceil(TILE);
-        out.clear();
-        out.extend_from_slice(b"\x89PNG\r\n\x1a\n");
-        let mut ihdr = Vec::with_capacity(13);
-        ihdr.extend_from_slice(&self.width.to_be_bytes());
-        ihdr.extend_from_slice(&self.height.to_be_bytes());
-        // 8 bits per channel, colour type 6 (RGBA), deflate, adaptive filtering, no
-        // interlace.
-        ihdr.extend_from_slice(&[8, 6, 0, 0, 0]);
-        chunk(out, b"IHDR", &ihdr);
-        for (key, value) in &provenance.entries {
-            // iTXt: keyword, NUL, uncompressed, method 0, no language, no translated
-            // keyword, then the UTF-8 text.
-            let mut text = Vec::with_capacity(key.len() + value.len() + 5);
-            text.extend_from_slice(key.as_bytes());
-            text.extend_from_slice(&[0, 0, 0, 0, 0]);
-            text.extend_from_slice(value.as_bytes());
-            chunk(out, b"iTXt", &text);
-        }
-
-        // IDAT: its length is known at the end, so the chunk is written in place.
-        let idat_start = out.len();
-        out.extend_from_slice(&[0, 0, 0, 0]);
-        out.extend_from_slice(b"IDAT");
-        out.extend_from_slice(&self.codes.zlib);
-        let mut w = Deflate::new(self.codes, std::mem::take(out));
-        w.put_stored_bits(&self.codes.header, self.codes.header_bits);
+        let (mut w, idat_start) = start_png(self.codes, self.width, self.height, provenance, out);
         // The Adler-32 of the filtered bytes so far, its two sums reduced once a row.
         let mut adler = Sums { a: 1, b: 0 };
         let mut row_filtered = vec![0u8; stride];
@@ -270,24 +245,69 @@ impl StaticPng {
             }
             adler.reduce();
         }
-        w.flush_run();
-        w.literal(256);
-        let (mut bytes, _) = w.into_bits();
-        bytes.extend_from_slice(&adler.finish().to_be_bytes());
-        *out = bytes;
-        let length = (out.len() - idat_start - 8) as u32;
-        out[idat_start..idat_start + 4].copy_from_slice(&length.to_be_bytes());
-        let crc = crc32fast::hash(&out[idat_start + 4..]);
-        out.extend_from_slice(&crc.to_be_bytes());
-        chunk(out, b"IEND", &[]);
+        *out = finish_png(w, adler, idat_start);
     }
+}
+
+/// Starts a PNG of a frame `width` × `height` in `out` (cleared first): the
+/// signature, the header, the provenance's text chunks, and the start of the IDAT
+/// chunk up to the DEFLATE block's code. Returns the bit writer, which takes `out`,
+/// and where the IDAT chunk starts.
+pub(super) fn start_png<'c>(
+    codes: &'c Codes,
+    width: u32,
+    height: u32,
+    provenance: &Provenance,
+    out: &mut Vec<u8>,
+) -> (Deflate<'c>, usize) {
+    out.clear();
+    out.extend_from_slice(b"\x89PNG\r\n\x1a\n");
+    let mut ihdr = Vec::with_capacity(13);
+    ihdr.extend_from_slice(&width.to_be_bytes());
+    ihdr.extend_from_slice(&height.to_be_bytes());
+    // 8 bits per channel, colour type 6 (RGBA), deflate, adaptive filtering, no
+    // interlace.
+    ihdr.extend_from_slice(&[8, 6, 0, 0, 0]);
+    chunk(out, b"IHDR", &ihdr);
+    for (key, value) in &provenance.entries {
+        // iTXt: keyword, NUL, uncompressed, method 0, no language, no translated
+        // keyword, then the UTF-8 text.
+        let mut text = Vec::with_capacity(key.len() + value.len() + 5);
+        text.extend_from_slice(key.as_bytes());
+        text.extend_from_slice(&[0, 0, 0, 0, 0]);
+        text.extend_from_slice(value.as_bytes());
+        chunk(out, b"iTXt", &text);
+    }
+    // IDAT: its length is known at the end, so the chunk is written in place.
+    let idat_start = out.len();
+    out.extend_from_slice(&[0, 0, 0, 0]);
+    out.extend_from_slice(b"IDAT");
+    out.extend_from_slice(&codes.zlib);
+    let mut w = Deflate::new(codes, std::mem::take(out));
+    w.put_stored_bits(&codes.header, codes.header_bits);
+    (w, idat_start)
+}
+
+/// Ends the PNG that [`start_png`] started: the last run, the end of the block, the
+/// Adler-32 of the filtered bytes, the IDAT chunk's length and CRC, and IEND.
+pub(super) fn finish_png(mut w: Deflate<'_>, adler: Sums, idat_start: usize) -> Vec<u8> {
+    w.flush_run();
+    w.literal(256);
+    let (mut out, _) = w.into_bits();
+    out.extend_from_slice(&adler.finish().to_be_bytes());
+    let length = (out.len() - idat_start - 8) as u32;
+    out[idat_start..idat_start + 4].copy_from_slice(&length.to_be_bytes());
+    let crc = crc32fast::hash(&out[idat_start + 4..]);
+    out.extend_from_slice(&crc.to_be_bytes());
+    chunk(&mut out, b"IEND", &[]);
+    out
 }
 
 /// Returns the index of the first bit at or after `from` that is set (when `set`) or
 /// clear (otherwise) in the bitmap `words` (bit i is bit i % 64 of word i / 64), or
 /// 64·words.len() when there is none.
 #[inline]
-pub(super) fn next_bit(words: &[u64], from: usize, set: bool) -> usize {
+pub fn next_bit(words: &[u64], from: usize, set: bool) -> usize {
     let mut k = from / 64;
     if k >= words.len() {
         return 64 * words.len();

@@ -32,12 +32,18 @@
 //! frame's stream from copied stretches and freshly compressed dirty tiles, and holds
 //! the cost model that decides between tiles and `fdeflate`; `deflate.rs` is the bit
 //! writer of the DEFLATE block; `codes.rs` reads the Huffman code from `fdeflate`. This
-//! file holds [`StaticPng`] and its entry points.
+//! file holds [`StaticPng`] and its entry points. `incremental.rs` holds
+//! [`FrameCoder`], which encodes a frame against the last frame a worker encoded
+//! instead of a static layer (frames with trails).
 
 mod codes;
 mod deflate;
 mod frame;
+mod incremental;
 mod static_rows;
+
+pub use frame::next_bit;
+pub use incremental::FrameCoder;
 
 use codes::{codes, Codes};
 use deflate::{chunk, Deflate};

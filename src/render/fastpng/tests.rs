@@ -208,3 +208,113 @@ fn copied_tiles_cost_no_more_bytes_than_compressing_the_whole_frame() {
         );
     }
 }
+
+#[test]
+fn frames_encoded_against_the_frame_before_are_the_bits_of_a_fresh_encoding() {
+    // Discs that move from frame to frame over a layer with detail, on an odd width (a
+    // short tile ends every row): a coder that copies the unmarked tiles from the last
+    // frame it encoded gives, bit for bit, what a fresh coder gives, whatever frames it
+    // encoded before; marking a tile that did not change costs nothing in bits.
+    use crate::render::damage::TileMask;
+    let (width, height) = (203, 61);
+    let layer = grey_discs(width, height);
+    let provenance = Provenance::default().with("physframes:frame", 3);
+    let mut coder = FrameCoder::new(width, height).expect("readable");
+    let mut last: Option<Damage> = None;
+    for k in [0, 1, 2, 5, 6, 3, 8, 8, 0, 7] {
+        let (frame, damage) = frame_with_discs(&layer, k);
+        let mut changed = TileMask::new(width, height);
+        changed.clear();
+        changed.add_damage(&damage);
+        match &last {
+            Some(before) => changed.add_damage(before),
+            None => changed.set_whole(),
+        }
+        // A spare tile marked where nothing changed.
+        changed.add_rect(crate::render::PixelRect {
+            x0: 150,
+            y0: 3,
+            x1: 151,
+            y1: 4,
+        });
+        let ours = coder.encode(&frame, &changed, &provenance).to_vec();
+        let fresh = FrameCoder::new(width, height)
+            .expect("readable")
+            .encode(&frame, &TileMask::new(width, height), &provenance)
+            .to_vec();
+        assert!(ours == fresh, "frame with {k} discs: the bits differ");
+        let (pixels, text) = decode(&ours);
+        assert_eq!(pixels, frame.data(), "frame with {k} discs");
+        assert_eq!(
+            text,
+            vec![("physframes:frame".to_string(), "3".to_string())]
+        );
+        check_adler(&ours, frame.data(), 4 * width as usize);
+        last = Some(damage);
+    }
+}
+
+#[test]
+fn a_row_compressed_tile_by_tile_is_the_row_compressed_whole() {
+    // The frame coder's promise rests on this: Deflate::bytes over a row's aligned
+    // tiles, one after the other, writes the bits it writes over the whole row.
+    let codes = codes().expect("readable");
+    let mut row = vec![0u8; 4 * 203];
+    for (i, b) in row.iter_mut().enumerate() {
+        // Runs of zeros of every length, single zeros inside words, and words
+        // without zeros.
+        *b = match (i * 7919) % 23 {
+            0..=9 => 0,
+            10..=12 => (i % 5) as u8,
+            _ => (i % 251) as u8,
+        };
+    }
+    let mut whole = Deflate::new(codes, Vec::new());
+    whole.bytes(&row);
+    whole.flush_run();
+    let mut tiled = Deflate::new(codes, Vec::new());
+    for tile in row.chunks(TILE) {
+        tiled.bytes_marked::<true>(tile);
+    }
+    tiled.flush_run();
+    assert_eq!(whole.into_bits(), tiled.into_bits());
+}
+
+#[test]
+fn bit_ranges_are_copied_bit_for_bit_from_any_offset_to_any_offset() {
+    // Long ranges take the word-at-a-time path, short ones the 56-bit one; both
+    // must append exactly the bits asked for, after any number of bits pending.
+    let codes = codes().expect("readable");
+    let source: Vec<u8> = (0..400u32)
+        .map(|i| (i.wrapping_mul(2_654_435_761) >> 13) as u8)
+        .collect();
+    let bit = |bytes: &[u8], i: usize| bytes[i / 8] >> (i % 8) & 1;
+    for pending in [0u32, 1, 7, 8, 13, 63] {
+        for (from, to) in [
+            (0, 3000),
+            (5, 2900),
+            (13, 530),
+            (8, 1032),
+            (3, 40),
+            (100, 100),
+        ] {
+            let mut w = Deflate::new(codes, Vec::new());
+            w.put((1 << pending) - 1, pending);
+            w.put_bit_range(&source, from, to);
+            let (out, bits) = w.into_bits();
+            assert_eq!(bits, pending as usize + to - from);
+            for i in 0..bits {
+                let expected = if i < pending as usize {
+                    1
+                } else {
+                    bit(&source, from + i - pending as usize)
+                };
+                assert_eq!(
+                    bit(&out, i),
+                    expected,
+                    "bit {i} of {from}..{to} after {pending}"
+                );
+            }
+        }
+    }
+}

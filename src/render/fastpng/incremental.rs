@@ -1,0 +1,258 @@
+//! Frames encoded against the frame before: a worker keeps the bits of the last frame
+//! it encoded, tile by tile, and compresses afresh only the tiles where the new frame
+//! may differ from it, copying the others' bits.
+//!
+//! This is for frames with no static layer worth the name, such as frames with trails:
+//! their trails change only where this frame's new segments go and the bodies move, but
+//! they are most of the frame's bytes, and compressing them whole every frame made a
+//! late frame cost twice what an early one did.
+//!
+//! The bits do not depend on which tiles were copied: every row is the filter-type
+//! literal followed by [`Deflate::bytes`] over the row's filtered bytes, 8-byte words
+//! counted from the row's start, exactly as if the row were compressed whole. A tile
+//! (32 bytes, four words) compressed on its own between runs of zeros gives the same
+//! bits as inside its row, so a clean tile's bits, copied from the frame before, are
+//! those the tile would have now. So the PNG is a function of the frame's pixels alone,
+//! whatever frame the worker drew before, and whatever the marked tiles (a tile marked
+//! that did not change costs time, not bits).
+
+use tiny_skia::Pixmap;
+
+use super::frame::{finish_png, next_bit, start_png};
+use super::static_rows::{Item, Sums};
+use super::*;
+use crate::render::damage::TileMask;
+
+/// A worker's last frame as encoded: its PNG, and where each nonzero tile's bits lie in
+/// it, with the sums that give any clean span's Adler-32.
+#[derive(Debug)]
+pub struct FrameCoder {
+    width: u32,
+    height: u32,
+    codes: &'static Codes,
+    /// The last frame's PNG, whose bits clean tiles copy; `None` before the first
+    /// frame.
+    png: Option<Vec<u8>>,
+    /// The buffer the next frame is encoded into.
+    spare: Vec<u8>,
+    /// Row by row, the last frame's tiles whose filtered bytes are not all zero, with
+    /// their bits' positions in `png` (absolute, in bits), then a sentinel holding the
+    /// row's sums, as [`Compressed`] keeps a static layer's.
+    items: Vec<Item>,
+    /// For each row, the index in `items` of its first item.
+    row_items: Vec<u32>,
+    /// The same for the frame being encoded.
+    next_items: Vec<Item>,
+    next_row_items: Vec<u32>,
+    /// One filtered row, and its tiles to compress afresh (bit t of word t / 64).
+    filtered: Vec<u8>,
+    dirty: Vec<u64>,
+}
+
+impl FrameCoder {
+    /// A coder for frames `width` × `height` (every pixel opaque), or `None` when the
+    /// Huffman code cannot be read or rows are too wide for 32-bit offsets.
+    pub fn new(width: u32, height: u32) -> Option<Self> {
+        let stride = 4 * width as usize;
+        // The bit positions are 32-bit: frames whose PNG might pass 2^29 bytes (at most
+        // about two bytes a filtered byte) are left to the other encoders.
+        if stride > 1 << 20 || stride * height as usize > 1 << 27 {
+            return None;
+        }
+        Some(FrameCoder {
+            width,
+            height,
+            codes: codes()?,
+            png: None,
+            spare: Vec::new(),
+            items: Vec::new(),
+            row_items: Vec::new(),
+            next_items: Vec::new(),
+            next_row_items: Vec::new(),
+            filtered: vec![0; stride],
+            dirty: vec![0; stride.div_ceil(TILE).div_ceil(64)],
+        })
+    }
+
+    /// Encodes `frame` as an 8-bit RGBA PNG with the given text chunks and returns it.
+    /// `changed` marks the tiles of pixels where the frame may differ from the last
+    /// frame this coder encoded (every tile, for the first frame, is taken as marked);
+    /// a filtered tile is compressed afresh when its pixels or the pixels above them
+    /// are marked, and copied otherwise.
+    pub fn encode(&mut self, frame: &Pixmap, changed: &TileMask, provenance: &Provenance) -> &[u8] {
+        assert_eq!((frame.width(), frame.height()), (self.width, self.height));
+        assert_eq!(changed.size(), (self.width, self.height));
+        let stride = 4 * self.width as usize;
+        let tiles_per_row = stride.div_ceil(TILE);
+        let data = frame.data();
+        let previous = self.png.take().filter(|_| !changed.is_whole());
+        let mut out = std::mem::take(&mut self.spare);
+        let (mut w, idat_start) =
+            start_png(self.codes, self.width, self.height, provenance, &mut out);
+        let mut adler = Sums { a: 1, b: 0 };
+        self.next_items.clear();
+        self.next_row_items.clear();
+        let mut dirty = std::mem::take(&mut self.dirty);
+        for y in 0..self.height as usize {
+            let row = &data[y * stride..(y + 1) * stride];
+            let above = (y > 0).then(|| &data[(y - 1) * stride..y * stride]);
+            // A filtered tile changes when its pixels or those above them do.
+            match &previous {
+                None => dirty.fill(u64::MAX),
+                Some(_) => {
+                    dirty.copy_from_slice(changed.row(y));
+                    if y > 0 {
+                        for (d, a) in dirty.iter_mut().zip(changed.row(y - 1)) {
+                            *d |= a;
+                        }
+                    }
+                }
+            }
+            w.flush_run();
+            adler.add_byte(UP);
+            w.literal(usize::from(UP));
+            self.next_row_items.push(self.next_items.len() as u32);
+            // Σ f_i and Σ i·f_i over the row's filtered bytes so far.
+            let (mut sum, mut weighted) = (0u32, 0u64);
+            let old: &[Item] = match previous {
+                Some(_) => &self.items[self.row_items[y] as usize..],
+                None => &[],
+            };
+            let mut i = 0;
+            let mut first = 0;
+            while first < tiles_per_row {
+                let d = next_bit(&dirty, first, true).min(tiles_per_row);
+                if d > first {
+                    // Clean tiles first..d: the last frame's bits, from its first
+                    // nonzero tile's to its last's, with the runs of zeros around them.
+                    let (p, q) = (first * TILE, (d * TILE).min(stride));
+                    let stream = previous.as_deref().unwrap_or(&[]);
+                    while (old[i].from as usize) < p {
+                        i += 1;
+                    }
+                    let mut j = i;
+                    while (old[j].from as usize) < d * TILE {
+                        j += 1;
+                    }
+                    let (before, after) = (old[i], old[j]);
+                    if j > i {
+                        w.run += old[i].from as usize - p;
+                        w.flush_run();
+                        // Each copied tile's bits move by the same amount, and its
+                        // sums by the difference between the sums before the span.
+                        let at = w.bit_position() as u32;
+                        for it in &old[i..j] {
+                            self.next_items.push(Item {
+                                start: it.start - before.start + at,
+                                end: it.end - before.start + at,
+                                sum: it.sum - before.sum + sum,
+                                weighted: it.weighted - before.weighted + weighted,
+                                ..*it
+                            });
+                        }
+                        w.put_bit_range(stream, before.start as usize, old[j - 1].end as usize);
+                        w.run = q - old[j - 1].to as usize;
+                    } else {
+                        w.run += q - p;
+                    }
+                    sum += after.sum - before.sum;
+                    weighted += after.weighted - before.weighted;
+                    i = j;
+                }
+                if d == tiles_per_row {
+                    break;
+                }
+                // Dirty tiles d..t, filtered in one pass, then compressed tile by tile.
+                let t = next_bit(&dirty, d, false).min(tiles_per_row);
+                let (a, b) = (d * TILE, (t * TILE).min(stride));
+                match above {
+                    Some(above) => up_filter(&row[a..b], &above[a..b], &mut self.filtered[a..b]),
+                    None => self.filtered[a..b].copy_from_slice(&row[a..b]),
+                }
+                for k in d..t {
+                    let (a, b) = (k * TILE, ((k + 1) * TILE).min(stride));
+                    let f = &self.filtered[a..b];
+                    let Some((from, to, s, v)) = tile_bytes(f) else {
+                        w.run += b - a;
+                        continue;
+                    };
+                    let start = w.bytes_marked::<true>(f);
+                    let end = w.bit_position();
+                    self.next_items.push(Item {
+                        from: (a + from) as u32,
+                        to: (a + to) as u32,
+                        start: start as u32,
+                        end: end as u32,
+                        sum,
+                        weighted,
+                    });
+                    // Σ i·f_i = Σ (a + j)·f_j over the row.
+                    sum += s;
+                    weighted += a as u64 * u64::from(s) + u64::from(v);
+                }
+                first = t;
+            }
+            // The sentinel: past the last tile, with the row's sums; the row's Adler-32
+            // sums follow from them: s1 = Σ f_i and s2 = Σ (L - i)·f_i = L·s1 - Σ i·f_i.
+            let past = (tiles_per_row * TILE) as u32;
+            self.next_items.push(Item {
+                from: past,
+                to: past,
+                start: 0,
+                end: 0,
+                sum,
+                weighted,
+            });
+            let len = stride as u64;
+            adler.add_sums(len, u64::from(sum), len * u64::from(sum) - weighted);
+            adler.reduce();
+        }
+        self.dirty = dirty;
+        let png = finish_png(w, adler, idat_start);
+        std::mem::swap(&mut self.items, &mut self.next_items);
+        std::mem::swap(&mut self.row_items, &mut self.next_row_items);
+        self.spare = previous.unwrap_or_default();
+        self.png.insert(png).as_slice()
+    }
+}
+
+/// For a tile's filtered bytes f_j (at most [`TILE`]), returns `None` when all are zero,
+/// else the index of the first nonzero byte, one past the last, Σ f_j and Σ j·f_j.
+#[inline]
+fn tile_bytes(f: &[u8]) -> Option<(usize, usize, u32, u32)> {
+    if let Ok(tile) = <&[u8; TILE]>::try_from(f) {
+        let word = |k: usize| {
+            u64::from_le_bytes([
+                tile[8 * k],
+                tile[8 * k + 1],
+                tile[8 * k + 2],
+                tile[8 * k + 3],
+                tile[8 * k + 4],
+                tile[8 * k + 5],
+                tile[8 * k + 6],
+                tile[8 * k + 7],
+            ])
+        };
+        let words = [word(0), word(1), word(2), word(3)];
+        let first = words.iter().position(|w| *w != 0)?;
+        let last = words.iter().rposition(|w| *w != 0).unwrap_or(first);
+        let from = 8 * first + (words[first].trailing_zeros() / 8) as usize;
+        let to = 8 * last + 8 - (words[last].leading_zeros() / 8) as usize;
+        // Fixed-length sums, which the compiler turns into vector arithmetic.
+        let (mut s, mut v) = (0u32, 0u32);
+        for (j, &x) in tile.iter().enumerate() {
+            s += u32::from(x);
+            v += j as u32 * u32::from(x);
+        }
+        return Some((from, to, s, v));
+    }
+    // The short last tile of a row.
+    let from = f.iter().position(|x| *x != 0)?;
+    let to = f.iter().rposition(|x| *x != 0).map_or(from, |l| l + 1);
+    let (mut s, mut v) = (0u32, 0u32);
+    for (j, &x) in f.iter().enumerate() {
+        s += u32::from(x);
+        v += j as u32 * u32::from(x);
+    }
+    Some((from, to, s, v))
+}

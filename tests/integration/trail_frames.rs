@@ -1,0 +1,112 @@
+//! Frames with trails drawn and encoded against the last frame a worker drew
+//! (`Renderer::draw_trail_frame`, `FrameCoder`): the pixels are those of a whole
+//! redraw, the tiles marked as changed hold every pixel that changed, and the PNG is
+//! the bits of a fresh encoding, whichever frames the worker drew before.
+
+use glam::DVec2;
+use physframes::render::damage::TileMask;
+use physframes::render::fastpng::FrameCoder;
+use physframes::render::trails::TrailFrame;
+use physframes::render::{ArrowScales, FrameView, Provenance, Renderer};
+
+use crate::every_scene::{trail_history, user_scene};
+
+/// Draws the frames `order` of a scene as one worker would (into one pixmap, with one
+/// trail state and one coder), checking each against a whole redraw and a fresh
+/// encoding. Turning bodies get an angle that changes with the frame. The frames
+/// `whole_at` must mark every tile, the others tiles only (`None`: every frame whole).
+fn check_worker(name: &str, text: &str, order: &[usize], whole_at: Option<&[usize]>) {
+    let s = crate::util::scene(text);
+    let renderer = Renderer::new(
+        &s,
+        ArrowScales {
+            velocity: 0.3,
+            force: 1.0,
+        },
+    );
+    let frames = order.iter().max().expect("frames") + 1;
+    let history = trail_history(&s, frames as u64);
+    let (width, height) = (s.render.width, s.render.height);
+    let mut pixmap = renderer.new_frame();
+    let mut state = TrailFrame::new(width, height);
+    let mut coder = FrameCoder::new(width, height).expect("readable");
+    let mut before = pixmap.clone();
+    for &k in order {
+        let pos = history[k].last().expect("a frame").clone();
+        let vel: Vec<DVec2> = (0..pos.len())
+            .map(|i| DVec2::new(1.0 + i as f64 * 0.1, -0.5 * k as f64))
+            .collect();
+        let angle: Vec<f64> = (0..pos.len())
+            .map(|i| 0.37 * (k * (i + 1)) as f64)
+            .collect();
+        let view = FrameView {
+            index: k as u64,
+            t: s.frame_time(k as u64),
+            pos: &pos,
+            vel: &vel,
+            angle: Some(&angle),
+            force: None,
+            trail: Some(&history[k]),
+            traces: None,
+            compare: None,
+        };
+        renderer.draw_trail_frame(&view, &mut pixmap, &mut state);
+        let whole = renderer.draw(&view);
+        assert!(
+            pixmap.data() == whole.data(),
+            "{name}, frame {k}: differs from a whole redraw"
+        );
+        // Every pixel that changed since the last frame lies in a marked tile.
+        let changed = state.changed();
+        assert_eq!(
+            changed.is_whole(),
+            whole_at.is_none_or(|w| w.contains(&k)),
+            "{name}, frame {k}: whole or tiles"
+        );
+        if !changed.is_whole() {
+            for y in 0..height as usize {
+                for x in 0..width as usize {
+                    let p = 4 * (y * width as usize + x);
+                    let marked = changed.row(y)[x / 8 / 64] >> (x / 8 % 64) & 1 == 1;
+                    assert!(
+                        marked || pixmap.data()[p..p + 4] == before.data()[p..p + 4],
+                        "{name}, frame {k}: pixel ({x}, {y}) changed outside the marked tiles"
+                    );
+                }
+            }
+        }
+        let provenance = Provenance::default().with("physframes:frame", k);
+        let ours = coder.encode(&pixmap, changed, &provenance).to_vec();
+        let fresh = FrameCoder::new(width, height)
+            .expect("readable")
+            .encode(&pixmap, &TileMask::new(width, height), &provenance)
+            .to_vec();
+        assert!(ours == fresh, "{name}, frame {k}: the PNG differs");
+        let decoder = png::Decoder::new(std::io::Cursor::new(&ours));
+        let mut reader = decoder.read_info().expect("a PNG");
+        let mut pixels = vec![0; reader.output_buffer_size().expect("size")];
+        reader.next_frame(&mut pixels).expect("pixels");
+        assert!(
+            pixels == pixmap.data(),
+            "{name}, frame {k}: the PNG decodes to other pixels"
+        );
+        before = pixmap.clone();
+    }
+}
+
+#[test]
+fn trail_frames_drawn_against_the_frame_before_are_those_of_a_whole_redraw() {
+    // Bodies in the default colours, circles, boxes and triangles mixed, some leaving
+    // the image; a worker that draws every frame, one that jumps over frames another
+    // drew, and one that goes back to an earlier frame (its layer starts again).
+    let mixed = user_scene(60, 0, true, false);
+    check_worker("mixed", &mixed, &(0..24).collect::<Vec<_>>(), Some(&[0]));
+    check_worker("jumping", &mixed, &[0, 2, 3, 7, 8, 15, 23, 39], Some(&[0]));
+    check_worker("back", &mixed, &[10, 11, 4, 5, 6], Some(&[10, 4]));
+    // Turning boxes and triangles.
+    let turning = user_scene(60, 0, true, true);
+    check_worker("turning", &turning, &[0, 1, 3, 5, 6, 9, 30], Some(&[0]));
+    // Arrows over the trails: every tile is marked, and the frame is still right.
+    let arrows = user_scene(40, 3, true, false);
+    check_worker("arrows", &arrows, &[0, 1, 2, 5], None);
+}
