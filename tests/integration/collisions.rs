@@ -644,6 +644,12 @@ fn bad_contact_keys_are_located_errors_and_nothing_is_written() {
             "[contacts]\n[[body]]\nname = \"a\"\nmass = 1.0\nshape = { circle = { radius = 0.5 } }\n[[body]]\nname = \"b\"\nmass = 1.0\nposition = [0.8, 0.0]\nshape = { circle = { radius = 0.5 } }\n",
             "bodies `a` and `b` overlap by 2.000e-1 at t = 0",
         ),
+        // 10^5 discs on one spot: about 5·10^9 overlapping pairs, which the check
+        // neither lists (it once ran out of memory doing so) nor counts.
+        (
+            "[contacts]\n[[swarm]]\nname = \"heap\"\ncount = 100000\nmass = 1.0\nposition = { min = [0.0, 0.0], max = [0.001, 0.001] }\nshape = { circle = { radius = 0.1 } }\n",
+            "at least 99994 more pairs of colliding bodies overlap at t = 0",
+        ),
         (
             "[contacts]\n[[body]]\nmass = 1.0\n[[swarm]]\nname = \"s\"\ncount = 2\nmass = 1.0\nlayout = \"spiral\"\nposition = { min = [0.0, 0.0], max = [1.0, 1.0] }\n",
             "unknown layout `spiral`",

@@ -110,21 +110,34 @@ angular_velocity = 1.0
         "{:?} should take the fast way",
         body.shape
     );
+    over_angles(
+        |p, x, y, theta| look.draw_turned_fast(p, x, y, theta),
+        |p, x, y, theta| look.draw_turned(p, x, y, theta),
+    )
+}
+
+/// Draws something both ways at 400 angles and sub-pixel positions over a light
+/// background, and returns the largest channel difference, how many pixels differ, and
+/// how many pixels the second way covers.
+fn over_angles(
+    fast: impl Fn(&mut Pixmap, f32, f32, f64),
+    path: impl Fn(&mut Pixmap, f32, f32, f64),
+) -> (u8, usize, usize) {
     let (mut largest, mut count, mut covered) = (0, 0, 0);
     for k in 0..400u32 {
         let theta = f64::from(k) * 0.0157 - 3.0;
         let x = 40.0 + (k % 10) as f32 * 0.113;
         let y = 40.0 + (k / 10 % 10) as f32 * 0.171;
-        let mut fast = Pixmap::new(80, 80).expect("pixmap");
-        fast.fill(Color::from_rgba8(250, 248, 240, 255));
-        let mut path = fast.clone();
-        let background = fast.clone();
-        look.draw_turned_fast(&mut fast, x, y, theta);
-        look.draw_turned(&mut path, x, y, theta);
-        let (l, c) = diff(&fast, &path);
+        let mut ours = Pixmap::new(80, 80).expect("pixmap");
+        ours.fill(Color::from_rgba8(250, 248, 240, 255));
+        let mut theirs = ours.clone();
+        let background = ours.clone();
+        fast(&mut ours, x, y, theta);
+        path(&mut theirs, x, y, theta);
+        let (l, c) = diff(&ours, &theirs);
         largest = largest.max(l);
         count += c;
-        covered += diff(&path, &background).1;
+        covered += diff(&theirs, &background).1;
     }
     (largest, count, covered)
 }
@@ -210,21 +223,13 @@ fn turning_circles_orientation_lines_from_the_scan_converter_look_like_their_pat
         ));
         let look = BodyLook::new(&s.bodies[0], &camera);
         assert!(look.turns_by_marker(), "a turning circle shows its angle");
-        for k in 0..400u32 {
-            let theta = f64::from(k) * 0.0157 - 3.0;
-            let x = 40.0 + (k % 10) as f32 * 0.113;
-            let y = 40.0 + (k / 10 % 10) as f32 * 0.171;
-            let mut fast = Pixmap::new(80, 80).expect("pixmap");
-            fast.fill(Color::from_rgba8(250, 248, 240, 255));
-            let mut path = fast.clone();
-            let background = fast.clone();
-            look.draw_orientation_fast(&mut fast, x, y, theta);
-            look.draw_orientation(&mut path, x, y, theta);
-            let (l, c) = diff(&fast, &path);
-            largest = largest.max(l);
-            count += c;
-            covered += diff(&path, &background).1;
-        }
+        let (l, c, k) = over_angles(
+            |p, x, y, theta| look.draw_orientation_fast(p, x, y, theta),
+            |p, x, y, theta| look.draw_orientation(p, x, y, theta),
+        );
+        largest = largest.max(l);
+        count += c;
+        covered += k;
     }
     eprintln!(
         "orientation lines: {count} of {covered} covered pixels differ, by {largest}/255 at most"

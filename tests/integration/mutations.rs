@@ -8,16 +8,21 @@
 //! CI runs [`DEFAULT_CASES`] mutations (about a minute); a long run raises the count
 //! with `PHYSFRAMES_FUZZ_CASES`, e.g.
 //! `PHYSFRAMES_FUZZ_CASES=200000 cargo test --release --test integration mutations`.
+//! The mutations come from a fixed seed, so that CI tries the same cases on every run;
+//! `PHYSFRAMES_FUZZ_SEED=N` tries others (a failure prints the seed it ran with).
 
 use std::path::{Path, PathBuf};
 
 use physframes::error::exit;
 use physframes::fuzzing::{exercise, Outcome, SET_PREFIX};
 use proptest::prelude::*;
-use proptest::test_runner::{Config, TestCaseError, TestRunner};
+use proptest::test_runner::{Config, RngSeed, TestCaseError, TestRunner};
 
 /// Mutated scenes per CI run.
 const DEFAULT_CASES: u32 = 10_000;
+
+/// The seed of CI's mutations.
+const DEFAULT_SEED: u64 = 1;
 
 /// Numbers and values a careless or hostile user might write anywhere.
 const VALUES: &[&str] = &[
@@ -392,6 +397,10 @@ fn mutated_scenes_are_refused_or_drawn_and_never_leave_frames_behind_an_error() 
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(DEFAULT_CASES);
+    let rng_seed = std::env::var("PHYSFRAMES_FUZZ_SEED")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(DEFAULT_SEED);
     let seeds = seeds();
     let started = std::time::Instant::now();
     let tally = std::sync::Mutex::new(std::collections::BTreeMap::<&str, u32>::new());
@@ -399,6 +408,7 @@ fn mutated_scenes_are_refused_or_drawn_and_never_leave_frames_behind_an_error() 
     let mut runner = TestRunner::new(Config {
         cases,
         failure_persistence: None,
+        rng_seed: RngSeed::Fixed(rng_seed),
         ..Config::default()
     });
     let strategy = (0..seeds.len(), prop::collection::vec(mutation(), 1..4));
@@ -435,7 +445,7 @@ fn mutated_scenes_are_refused_or_drawn_and_never_leave_frames_behind_an_error() 
         slowest.2
     );
     if let Err(e) = result {
-        panic!("{e}");
+        panic!("{e}\n(PHYSFRAMES_FUZZ_SEED={rng_seed})");
     }
 }
 

@@ -52,6 +52,19 @@ impl BroadPhase {
         pairs.sort_unstable();
     }
 
+    /// Builds the tree over the given boxes, one per collider, without listing its
+    /// pairs: for callers that ask collider by collider and may stop early.
+    pub fn rebuild(&mut self, boxes: impl Iterator<Item = Aabb>) {
+        self.boxes.clear();
+        self.boxes.extend(boxes);
+        self.tree = Bvh::from_leaves(BvhBuildStrategy::Binned, &self.boxes);
+    }
+
+    /// Returns collider `k`'s box as last built or moved.
+    pub fn box_of(&self, k: usize) -> Aabb {
+        self.boxes[k]
+    }
+
     /// Moves collider `k`'s leaf to the box `b` (a body struck within the step sweeps
     /// less, or elsewhere), growing the nodes above it as far as they must still hold
     /// it, so that a query sees every collider's latest box. The nodes may stay larger

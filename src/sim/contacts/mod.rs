@@ -248,14 +248,16 @@ impl Contacts {
     /// Returns every pair of bodies that overlap by more than their tolerance at these
     /// positions and angles, in body order; pairs are found through the broad phase.
     /// `movable(i)` tells whether body i can move (two immovable bodies may overlap: a
-    /// floor built of several boxes).
+    /// floor built of several boxes). The search stops at the first body by which
+    /// `limit` overlaps are found (all of that body's are kept).
     pub fn overlaps(
         &mut self,
         pos: &[DVec2],
         angle: &[f64],
         movable: impl Fn(usize) -> bool,
+        limit: usize,
     ) -> Vec<Overlap> {
-        sweep::overlaps(self, pos, angle, movable)
+        sweep::overlaps(self, pos, angle, movable, limit)
     }
 
     /// The margin every swept box is widened by: the body's own tolerance, so that two

@@ -589,6 +589,7 @@ pub(super) fn overlaps(
     pos: &[DVec2],
     angle: &[f64],
     movable: impl Fn(usize) -> bool,
+    limit: usize,
 ) -> Vec<Overlap> {
     let n = c.colliders.len();
     let mut boxes = Vec::with_capacity(n);
@@ -601,26 +602,39 @@ pub(super) fn overlaps(
             super::collider::to_parry(hi + m),
         ));
     }
-    let mut pairs = Vec::new();
-    c.scratch.broad.build(boxes.into_iter(), &mut pairs);
+    // Collider by collider, in order, each against the later ones whose boxes meet
+    // its own: the pairs come in (i, j) order, and the search stops once `limit`
+    // overlaps are found, so a hostile scene of 10^5 bodies piled on one spot costs
+    // one query, not a list of 5·10^9 pairs.
+    c.scratch.broad.rebuild(boxes.into_iter());
     let mut found = Vec::new();
-    for (i, j) in pairs {
-        let (i, j) = (i as usize, j as usize);
-        let (ci, cj) = (&c.colliders[i], &c.colliders[j]);
-        if !movable(ci.body) && !movable(cj.body) {
-            continue;
+    let mut others = Vec::new();
+    for i in 0..n {
+        if found.len() >= limit {
+            break;
         }
-        let t = c.tolerance(i, j);
-        let pi = Pose::new(pos[ci.body], angle[ci.body]);
-        let pj = Pose::new(pos[cj.body], angle[cj.body]);
-        if let Some(ct) = contact(ci, &pi, cj, &pj, t, t) {
-            if ct.gap < -t {
-                found.push(Overlap {
-                    a: ci.body,
-                    b: cj.body,
-                    depth: -ct.gap,
-                    crowded: false,
-                });
+        let bx = c.scratch.broad.box_of(i);
+        c.scratch.broad.query(&bx, &mut others);
+        others.retain(|&j| j as usize > i);
+        others.sort_unstable();
+        for &j in &others {
+            let j = j as usize;
+            let (ci, cj) = (&c.colliders[i], &c.colliders[j]);
+            if !movable(ci.body) && !movable(cj.body) {
+                continue;
+            }
+            let t = c.tolerance(i, j);
+            let pi = Pose::new(pos[ci.body], angle[ci.body]);
+            let pj = Pose::new(pos[cj.body], angle[cj.body]);
+            if let Some(ct) = contact(ci, &pi, cj, &pj, t, t) {
+                if ct.gap < -t {
+                    found.push(Overlap {
+                        a: ci.body,
+                        b: cj.body,
+                        depth: -ct.gap,
+                        crowded: false,
+                    });
+                }
             }
         }
     }
