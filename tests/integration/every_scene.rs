@@ -9,23 +9,7 @@ use physframes::render::bodies::{draw_arrow, draw_arrow_path};
 use physframes::render::clip::ClipRect;
 use tiny_skia::{Color, Pixmap};
 
-/// Returns the largest channel difference between two pixmaps and how many pixels
-/// differ at all.
-fn diff(a: &Pixmap, b: &Pixmap) -> (u8, usize) {
-    let mut largest = 0;
-    let mut count = 0;
-    for (p, q) in a.data().chunks_exact(4).zip(b.data().chunks_exact(4)) {
-        let d = p
-            .iter()
-            .zip(q)
-            .map(|(x, y)| x.abs_diff(*y))
-            .max()
-            .unwrap_or(0);
-        largest = largest.max(d);
-        count += usize::from(d > 0);
-    }
-    (largest, count)
-}
+use crate::util::diff;
 
 #[test]
 fn arrows_from_the_scan_converter_are_tiny_skias_arrows() {

@@ -12,7 +12,7 @@ use physframes::sim::chunks::use_wide_vectors;
 use physframes::sim::{Selection, Simulation, State};
 use tiny_skia::{Color, Pixmap};
 
-use crate::util::{example, scene, stderr, stdout, Sandbox};
+use crate::util::{diff, example, scene, stderr, stdout, Sandbox};
 
 const SWARM: &str = r##"
 [render]
@@ -314,24 +314,6 @@ bodies = ["dust99999"]
     let b = sim.run_steps(1000).expect_err("h·k/m = 10 blows up");
     assert_eq!(b.body, 99_999);
     assert_eq!(b.quantity, "velocity");
-}
-
-/// Returns the largest channel difference between two pixmaps and how many pixels
-/// differ at all.
-fn diff(a: &Pixmap, b: &Pixmap) -> (u8, usize) {
-    let mut largest = 0;
-    let mut count = 0;
-    for (p, q) in a.data().chunks_exact(4).zip(b.data().chunks_exact(4)) {
-        let d = p
-            .iter()
-            .zip(q)
-            .map(|(x, y)| x.abs_diff(*y))
-            .max()
-            .unwrap_or(0);
-        largest = largest.max(d);
-        count += usize::from(d > 0);
-    }
-    (largest, count)
 }
 
 #[test]

@@ -151,3 +151,21 @@ velocity = [1.0, 0.0]
 kind = "drag"
 k = 1.0
 "#;
+
+/// Returns the largest channel difference between two pixmaps and how many pixels
+/// differ at all.
+pub fn diff(a: &tiny_skia::Pixmap, b: &tiny_skia::Pixmap) -> (u8, usize) {
+    let mut largest = 0;
+    let mut count = 0;
+    for (p, q) in a.data().chunks_exact(4).zip(b.data().chunks_exact(4)) {
+        let d = p
+            .iter()
+            .zip(q)
+            .map(|(x, y)| x.abs_diff(*y))
+            .max()
+            .unwrap_or(0);
+        largest = largest.max(d);
+        count += usize::from(d > 0);
+    }
+    (largest, count)
+}
