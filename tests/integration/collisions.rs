@@ -680,6 +680,36 @@ fn bad_contact_keys_are_located_errors_and_nothing_is_written() {
     }
 }
 
+/// Static bodies may overlap (a floor of several boxes), so 20,000 of them piled on one
+/// spot are a valid scene, which the check at t = 0 passes without looking at their
+/// 2·10^8 pairs; one disc dropped into the pile overlaps them all, and the check names
+/// five of its pairs and counts the rest from where it stopped.
+#[test]
+fn a_pile_of_static_bodies_is_checked_without_its_pairs() {
+    let mut text = String::from(
+        "[simulation]\ndt = 0.01\nduration = 0.1\n[render]\nfps = 25\nview = { min = [-1.0, -1.0], max = [1.0, 1.0] }\n[contacts]\n",
+    );
+    for _ in 0..20_000 {
+        text.push_str("[[body]]\nstatic = true\nshape = { circle = { radius = 0.1 } }\n");
+    }
+    let dir = Sandbox::new();
+    let valid = dir.write("statics.toml", &text);
+    let out = dir.run(&["check", valid.to_str().expect("utf-8")]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    text.push_str(
+        "[[body]]\nname = \"dropped\"\nmass = 1.0\nshape = { circle = { radius = 0.1 } }\n",
+    );
+    let bad = dir.write("dropped.toml", &text);
+    let out = dir.run(&["check", bad.to_str().expect("utf-8")]);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("and `dropped` overlap by 2.000e-1 at t = 0"),
+        "{err}"
+    );
+    assert!(err.contains("at least 19995 more pairs"), "{err}");
+}
+
 #[test]
 fn a_sharded_render_of_a_colliding_scene_equals_a_single_run_byte_for_byte() {
     let dir = Sandbox::new();

@@ -602,10 +602,11 @@ pub(super) fn overlaps(
             super::collider::to_parry(hi + m),
         ));
     }
-    // Collider by collider, in order, each against the later ones whose boxes meet
-    // its own: the pairs come in (i, j) order, and the search stops once `limit`
-    // overlaps are found, so a hostile scene of 10^5 bodies piled on one spot costs
-    // one query, not a list of 5·10^9 pairs.
+    // Each movable collider, in order, against the colliders whose boxes meet its own
+    // (the later movable ones, and every immovable one, which asks nothing itself:
+    // two immovable bodies may overlap). The search stops once `limit` overlaps are
+    // found, so a hostile scene of 10^5 bodies piled on one spot costs one query, not
+    // a list of 5·10^9 pairs, and 10^5 static bodies piled up cost nothing.
     c.scratch.broad.rebuild(boxes.into_iter());
     let mut found = Vec::new();
     let mut others = Vec::new();
@@ -613,16 +614,19 @@ pub(super) fn overlaps(
         if found.len() >= limit {
             break;
         }
+        if !movable(c.colliders[i].body) {
+            continue;
+        }
         let bx = c.scratch.broad.box_of(i);
         c.scratch.broad.query(&bx, &mut others);
-        others.retain(|&j| j as usize > i);
+        others.retain(|&j| {
+            let j = j as usize;
+            j > i || (j < i && !movable(c.colliders[j].body))
+        });
         others.sort_unstable();
         for &j in &others {
-            let j = j as usize;
+            let (i, j) = (i.min(j as usize), i.max(j as usize));
             let (ci, cj) = (&c.colliders[i], &c.colliders[j]);
-            if !movable(ci.body) && !movable(cj.body) {
-                continue;
-            }
             let t = c.tolerance(i, j);
             let pi = Pose::new(pos[ci.body], angle[ci.body]);
             let pj = Pose::new(pos[cj.body], angle[cj.body]);
@@ -638,5 +642,7 @@ pub(super) fn overlaps(
             }
         }
     }
+    // In body order, as the pairs (a, b) sort.
+    found.sort_by_key(|o| (o.a, o.b));
     found
 }
