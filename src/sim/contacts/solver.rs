@@ -92,11 +92,13 @@ pub struct Velocities<'a> {
 }
 
 impl Velocities<'_> {
+    #[inline]
     fn get(&self, b: usize) -> (DVec2, f64) {
         (self.vel[b], if self.spins { self.omega[b] } else { 0.0 })
     }
 
     /// Applies the impulse p at arms (ra, rb) of the bodies (a, b): +p to a, -p to b.
+    #[inline]
     fn apply(
         &mut self,
         (a, b): (usize, usize),
@@ -116,6 +118,7 @@ impl Velocities<'_> {
     }
 
     /// Returns the relative velocity v_AP - v_BP at the arms (ra, rb).
+    #[inline]
     fn relative(&self, m: &Manifold, ra: DVec2, rb: DVec2) -> DVec2 {
         let (va, wa) = self.get(m.bi);
         let (vb, wb) = self.get(m.bj);
@@ -257,26 +260,26 @@ fn solve_block(m: &mut Manifold, inv: (Inverse, Inverse), v: &mut Velocities<'_>
     // b = v_n - bias - K·a.
     let b1 = vn1 - p1.bias - (k11 * a1 + k12 * a2);
     let b2 = vn2 - p2.bias - (k12 * a1 + k22 * a2);
-    let candidates = [
+    // The candidates in turn, each computed only when the ones before it fail (in the
+    // common case, the first).
+    let both = || {
         // Both push: x = -K⁻¹·b.
-        {
-            let x1 = -(k22 * b1 - k12 * b2) / det;
-            let x2 = -(k11 * b2 - k12 * b1) / det;
-            (x1 >= 0.0 && x2 >= 0.0).then_some((x1, x2))
-        },
-        // Only the first: x1 = -b1/K11, and the second does not close: K12·x1 + b2 ≥ 0.
-        {
-            let x1 = -b1 / k11;
-            (x1 >= 0.0 && k12 * x1 + b2 >= 0.0).then_some((x1, 0.0))
-        },
-        {
-            let x2 = -b2 / k22;
-            (x2 >= 0.0 && k12 * x2 + b1 >= 0.0).then_some((0.0, x2))
-        },
-        // Neither: both already part.
-        (b1 >= 0.0 && b2 >= 0.0).then_some((0.0, 0.0)),
-    ];
-    let (x1, x2) = candidates.into_iter().flatten().next()?;
+        let x1 = -(k22 * b1 - k12 * b2) / det;
+        let x2 = -(k11 * b2 - k12 * b1) / det;
+        (x1 >= 0.0 && x2 >= 0.0).then_some((x1, x2))
+    };
+    // Only the first: x1 = -b1/K11, and the second does not close: K12·x1 + b2 ≥ 0.
+    let first = || {
+        let x1 = -b1 / k11;
+        (x1 >= 0.0 && k12 * x1 + b2 >= 0.0).then_some((x1, 0.0))
+    };
+    let second = || {
+        let x2 = -b2 / k22;
+        (x2 >= 0.0 && k12 * x2 + b1 >= 0.0).then_some((0.0, x2))
+    };
+    // Neither: both already part.
+    let neither = || (b1 >= 0.0 && b2 >= 0.0).then_some((0.0, 0.0));
+    let (x1, x2) = both().or_else(first).or_else(second).or_else(neither)?;
     let (d1, d2) = (x1 - a1, x2 - a2);
     m.points[0].pn = x1;
     m.points[1].pn = x2;
