@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use crate::scene::{LoadError, SceneError};
 
 /// Exit codes, documented in docs/cli.md: 0 success, 1 runtime failure, 2 bad input or
-/// usage, 3 numerical blow-up, 130 stopped by Ctrl-C.
+/// usage, 3 numerical blow-up, 130 stopped by Ctrl-C (143 by SIGTERM, 129 by SIGHUP).
 pub mod exit {
     pub const SUCCESS: u8 = 0;
     pub const FAILURE: u8 = 1;
@@ -13,6 +13,10 @@ pub mod exit {
     pub const BLOW_UP: u8 = 3;
     /// Set by [`crate::interrupt`]'s handler, which exits itself.
     pub const INTERRUPTED: u8 = crate::interrupt::EXIT_CODE;
+    /// Set by the SIGTERM handler.
+    pub const TERMINATED: u8 = crate::interrupt::TERMINATED;
+    /// Set by the SIGHUP handler.
+    pub const HUNG_UP: u8 = crate::interrupt::HUNG_UP;
 }
 
 /// Everything that can stop a command.

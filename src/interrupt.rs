@@ -1,12 +1,15 @@
-//! Ctrl-C: every command stops at once, with exit code 130, and leaves no temporary file.
+//! Ctrl-C, and the signals that ask a process to end: every command stops at once,
+//! with exit code 130 for Ctrl-C (SIGINT), 143 for SIGTERM (what `kill`, Slurm at a time
+//! limit and container runtimes send) and 129 for SIGHUP (a closed terminal), and
+//! leaves no temporary file.
 //!
 //! physframes writes every file to a temporary file beside it and renames it into place
 //! when complete (see [`crate::output`]), so a file that exists is complete whenever the
 //! process stops. What an interrupt could leave is the temporary file of a write in
 //! progress (a frame, a checkpoint, a CSV, an animation). Each temporary file and
 //! folder is therefore listed here from the moment it is created to the moment it is
-//! renamed or removed, and the handler that [`install`] sets up for SIGINT removes every
-//! one listed, then exits with [`EXIT_CODE`]. It holds the list's lock while it removes
+//! renamed or removed, and the handlers that [`install`] sets up remove every one
+//! listed, then exit with 128 plus the signal's number. It holds the list's lock while it removes
 //! and exits, so that no temporary file is created, and none is listed late, meanwhile.
 //!
 //! Stopping at once, rather than asking long loops to look at a flag, means that no
@@ -30,16 +33,41 @@ fn temporary() -> MutexGuard<'static, Vec<PathBuf>> {
     TEMPORARY.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
-/// Sets up the SIGINT handler. Called once by the command line; a failure to set it up
-/// (a handler already set) leaves the default behaviour, which stops the process too.
+/// The exit code of a command stopped by SIGTERM: 128 + 15.
+pub const TERMINATED: u8 = 143;
+
+/// The exit code of a command stopped by SIGHUP: 128 + 1.
+pub const HUNG_UP: u8 = 129;
+
+/// Sets up the handlers: SIGINT through `ctrlc` (on every platform), SIGTERM and SIGHUP
+/// through `signal-hook` on Unix. Called once by the command line; a failure to set
+/// one up (a handler already set) leaves the default behaviour, which stops the process
+/// too, only without removing its temporary files.
 pub fn install() {
-    let _ = ctrlc::set_handler(stop_now);
+    let _ = ctrlc::set_handler(|| stop_now(EXIT_CODE));
+    #[cfg(unix)]
+    {
+        use signal_hook::consts::{SIGHUP, SIGTERM};
+        if let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGTERM, SIGHUP]) {
+            let _ = std::thread::Builder::new()
+                .name("physframes-signals".into())
+                .spawn(move || {
+                    if let Some(signal) = signals.forever().next() {
+                        stop_now(if signal == SIGHUP {
+                            HUNG_UP
+                        } else {
+                            TERMINATED
+                        });
+                    }
+                });
+        }
+    }
 }
 
-/// Removes every listed temporary file and folder, says so, and exits with
-/// [`EXIT_CODE`]. Runs on the handler's own thread, not in the signal handler, so it
-/// may lock, remove files and print.
-fn stop_now() {
+/// Removes every listed temporary file and folder, says so, and exits with `code`.
+/// Runs on a handler's own thread, not in the signal handler, so it may lock, remove
+/// files and print.
+fn stop_now(code: u8) {
     let list = temporary();
     for path in list.iter() {
         remove(path);
@@ -49,7 +77,7 @@ fn stop_now() {
          run `render` again with --resume to finish a render"
     );
     // Exits holding the lock, so no thread lists a new temporary file meanwhile.
-    std::process::exit(i32::from(EXIT_CODE));
+    std::process::exit(i32::from(code));
 }
 
 /// Removes a temporary file or folder, if it is still there.

@@ -46,12 +46,17 @@ fn wait_until(child: &mut Child, what: &str, ready: impl Fn() -> bool) {
 }
 
 /// Sends SIGINT, as Ctrl-C in a terminal does, and returns the exit code.
-fn interrupt(mut child: Child) -> Option<i32> {
+fn interrupt(child: Child) -> Option<i32> {
+    signal(child, "INT")
+}
+
+/// Sends the signal of that name (`kill -NAME`) and returns the exit code.
+fn signal(mut child: Child, name: &str) -> Option<i32> {
     let sent = std::process::Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
+        .args([&format!("-{name}"), &child.id().to_string()])
         .status()
         .expect("kill runs");
-    assert!(sent.success(), "SIGINT sent");
+    assert!(sent.success(), "SIG{name} sent");
     child.wait().expect("reap").code()
 }
 
@@ -127,4 +132,31 @@ fn an_interrupted_export_removes_its_temporary_file_and_writes_nothing() {
         Vec::<String>::new(),
         "neither a CSV nor a temporary file"
     );
+}
+
+/// SIGTERM (`kill`, a batch scheduler's time limit) and SIGHUP (a closed terminal) stop
+/// a command as Ctrl-C does, with 128 plus the signal's number: 143 and 129.
+#[test]
+fn sigterm_and_sighup_stop_a_render_as_ctrl_c_does() {
+    for (name, code) in [("TERM", 143), ("HUP", 129)] {
+        let sandbox = Sandbox::new();
+        sandbox.write("long.toml", LONG);
+        let mut child = sandbox.spawn(&["render", "long.toml", "--out", "stopped"]);
+        wait_until(&mut child, "10 frames were written", || {
+            sandbox.frames("stopped").len() >= 10
+        });
+        assert_eq!(
+            signal(child, name),
+            Some(code),
+            "the exit code of SIG{name}"
+        );
+        let frames = sandbox.frames("stopped");
+        assert!(frames.len() < 1001, "SIG{name}: stopped part-way");
+        assert_eq!(temporary_files(&sandbox, "stopped"), Vec::<String>::new());
+        for f in &frames {
+            let image = image::open(sandbox.path("stopped").join(f))
+                .unwrap_or_else(|e| panic!("SIG{name}: {f} is a complete PNG: {e}"));
+            assert_eq!((image.width(), image.height()), (160, 120), "{f}");
+        }
+    }
 }
