@@ -12,7 +12,7 @@ use physframes::sim::chunks::use_wide_vectors;
 use physframes::sim::{Selection, Simulation, State};
 use tiny_skia::{Color, Pixmap};
 
-use crate::util::{diff, example, scene, stderr, stdout, Sandbox};
+use crate::util::{assert_same_bits, diff, example, run, scene, stderr, stdout, Sandbox};
 
 const SWARM: &str = r##"
 [render]
@@ -159,39 +159,6 @@ fn swarm_mistakes_are_reported_with_their_place() {
         "{SWARM}\n[[force]]\nkind = \"spring\"\na = \"dust\"\nb = [0.0, 0.0]\nstiffness = 1.0\n"
     );
     check(&spring, "`dust` is a swarm of 10000 bodies, not one body");
-}
-
-/// Returns the state after `steps` explicit Euler steps on a pool of `threads`.
-fn run(scene: &Scene, steps: u64, threads: usize) -> State {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .expect("a thread pool");
-    let mut sim = Simulation::new(
-        scene.system(),
-        scene.initial_state(),
-        scene.simulation.integrator,
-        scene.simulation.dt,
-    );
-    pool.install(|| sim.run_steps(steps)).expect("finite");
-    sim.state().clone()
-}
-
-/// Compares two states bit for bit, naming the first body that differs.
-fn assert_same_bits(a: &State, b: &State, what: &str) {
-    for (i, ((pa, va), (pb, vb))) in a
-        .pos
-        .iter()
-        .zip(&a.vel)
-        .zip(b.pos.iter().zip(&b.vel))
-        .enumerate()
-    {
-        let bits = |v: &DVec2| (v.x.to_bits(), v.y.to_bits());
-        assert!(
-            bits(pa) == bits(pb) && bits(va) == bits(vb),
-            "{what}: body {i} differs: {pa:?} {va:?} vs {pb:?} {vb:?}"
-        );
-    }
 }
 
 /// A swarm large enough that the step runs on several threads, with every force family

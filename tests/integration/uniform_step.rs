@@ -9,7 +9,7 @@ use physframes::scene::Scene;
 use physframes::sim::chunks::use_wide_vectors;
 use physframes::sim::{Simulation, State};
 
-use crate::util::scene;
+use crate::util::{assert_same_bits, run, scene};
 
 /// A swarm large enough to run on several threads, all of one mass, under `forces`.
 fn swarm(forces: &str) -> Scene {
@@ -32,22 +32,6 @@ velocity = {{ min = [-1.0, -1.0], max = [1.0, 1.0] }}
     ))
 }
 
-/// Steps a scene `steps` times on a pool of `threads`.
-fn run(s: &Scene, steps: u64, threads: usize) -> State {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .expect("a thread pool");
-    let mut sim = Simulation::new(
-        s.system(),
-        s.initial_state(),
-        s.simulation.integrator,
-        s.simulation.dt,
-    );
-    pool.install(|| sim.run_steps(steps)).expect("finite");
-    sim.state().clone()
-}
-
 /// Explicit Euler written out over whole arrays, with the system's general force sum.
 fn written_out(s: &Scene, steps: u64) -> State {
     let system = s.system();
@@ -62,22 +46,6 @@ fn written_out(s: &Scene, steps: u64) -> State {
         }
     }
     state
-}
-
-fn assert_same_bits(a: &State, b: &State, what: &str) {
-    let bits = |v: &DVec2| (v.x.to_bits(), v.y.to_bits());
-    for (i, (x, y)) in a
-        .pos
-        .iter()
-        .zip(&a.vel)
-        .zip(b.pos.iter().zip(&b.vel))
-        .enumerate()
-    {
-        assert!(
-            bits(x.0) == bits(y.0) && bits(x.1) == bits(y.1),
-            "{what}: body {i} differs: {x:?} vs {y:?}"
-        );
-    }
 }
 
 #[test]

@@ -169,3 +169,37 @@ pub fn diff(a: &tiny_skia::Pixmap, b: &tiny_skia::Pixmap) -> (u8, usize) {
     }
     (largest, count)
 }
+
+/// Returns the state after `steps` steps of the scene's integrator on a pool of
+/// `threads`.
+pub fn run(scene: &Scene, steps: u64, threads: usize) -> physframes::sim::State {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("a thread pool");
+    let mut sim = physframes::sim::Simulation::new(
+        scene.system(),
+        scene.initial_state(),
+        scene.simulation.integrator,
+        scene.simulation.dt,
+    );
+    pool.install(|| sim.run_steps(steps)).expect("finite");
+    sim.state().clone()
+}
+
+/// Compares two states bit for bit, naming the first body that differs.
+pub fn assert_same_bits(a: &physframes::sim::State, b: &physframes::sim::State, what: &str) {
+    for (i, ((pa, va), (pb, vb))) in a
+        .pos
+        .iter()
+        .zip(&a.vel)
+        .zip(b.pos.iter().zip(&b.vel))
+        .enumerate()
+    {
+        let bits = |v: &glam::DVec2| (v.x.to_bits(), v.y.to_bits());
+        assert!(
+            bits(pa) == bits(pb) && bits(va) == bits(vb),
+            "{what}: body {i} differs: {pa:?} {va:?} vs {pb:?} {vb:?}"
+        );
+    }
+}
