@@ -67,15 +67,7 @@ fn arrows_from_the_scan_converter_are_tiny_skias_arrows() {
 /// how many pixels the look covers.
 fn turned_difference(shape: physframes::scene::Shape, color: [u8; 4]) -> (u8, usize, usize) {
     use physframes::render::bodies::BodyLook;
-    use physframes::render::Camera;
-    let camera = Camera::fit(
-        physframes::scene::View {
-            min: glam::DVec2::ZERO,
-            max: glam::DVec2::new(16.0, 9.0),
-        },
-        1280,
-        720,
-    );
+    let camera = camera_16_by_9();
     let s = crate::util::scene(
         r#"
 [render]
@@ -97,6 +89,18 @@ angular_velocity = 1.0
     over_angles(
         |p, x, y, theta| look.draw_turned_fast(p, x, y, theta),
         |p, x, y, theta| look.draw_turned(p, x, y, theta),
+    )
+}
+
+/// The camera of a 1280 × 720 image of the world from (0, 0) to (16, 9).
+fn camera_16_by_9() -> physframes::render::Camera {
+    physframes::render::Camera::fit(
+        physframes::scene::View {
+            min: glam::DVec2::ZERO,
+            max: glam::DVec2::new(16.0, 9.0),
+        },
+        1280,
+        720,
     )
 }
 
@@ -191,15 +195,7 @@ fn turning_circles_orientation_lines_from_the_scan_converter_look_like_their_pat
     // two samples of 16 in a cap's edge pixel, at most 2·16 = 32 of 255. Measured:
     // 945 of 50,385 covered pixels (1.9%) differ, by at most 29/255.
     use physframes::render::bodies::BodyLook;
-    use physframes::render::Camera;
-    let camera = Camera::fit(
-        physframes::scene::View {
-            min: glam::DVec2::ZERO,
-            max: glam::DVec2::new(16.0, 9.0),
-        },
-        1280,
-        720,
-    );
+    let camera = camera_16_by_9();
     let (mut largest, mut count, mut covered) = (0, 0, 0);
     for (radius, color) in [(0.05, "#1f77b4"), (0.12, "#ff7f0e"), (0.4, "#2ca02c80")] {
         let s = crate::util::scene(&format!(
@@ -534,16 +530,8 @@ fn turning_sprites_look_like_their_paths_at_the_exact_angle_and_position() {
     // covers, by 3.5/255 on average and 59/255 at most; the triangle 2.5 and 42.
     use physframes::render::bodies::BodyLook;
     use physframes::render::turning::{TurningCoverage, TurningSheet};
-    use physframes::render::Camera;
     use physframes::scene::Shape;
-    let camera = Camera::fit(
-        physframes::scene::View {
-            min: glam::DVec2::ZERO,
-            max: glam::DVec2::new(16.0, 9.0),
-        },
-        1280,
-        720,
-    );
+    let camera = camera_16_by_9();
     let s = crate::util::scene(
         "[render]\nview = { min = [0.0, 0.0], max = [16.0, 9.0] }\n[[body]]\nmass = 1.0\nangular_velocity = 1.0\n",
     );
