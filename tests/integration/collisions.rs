@@ -712,50 +712,11 @@ fn a_pile_of_static_bodies_is_checked_without_its_pairs() {
 
 #[test]
 fn a_sharded_render_of_a_colliding_scene_equals_a_single_run_byte_for_byte() {
-    let dir = Sandbox::new();
     let path = crate::util::example("billiards.toml");
-    let p = path.as_str();
-    let single = dir.run(&[
-        "render",
-        p,
-        "--out",
-        dir.path("single").to_str().expect("utf-8"),
-        "--threads",
-        "1",
-    ]);
-    assert!(single.status.success(), "{}", stderr(&single));
-    let frames = dir.frames("single").len();
-    let ck = dir.path("ck");
-    let out = dir.run(&[
-        "checkpoint",
-        p,
-        "--every",
+    crate::util::assert_shards_equal_a_single_run(
+        &path,
         "5",
-        "--checkpoint-dir",
-        ck.to_str().expect("utf-8"),
-    ]);
-    assert!(out.status.success(), "{}", stderr(&out));
-    let half = frames / 2;
-    for (range, threads) in [(format!("..{half}"), "2"), (format!("{half}.."), "1")] {
-        let out = dir.run(&[
-            "render",
-            p,
-            "--out",
-            dir.path("sharded").to_str().expect("utf-8"),
-            "--frames",
-            &range,
-            "--checkpoint-dir",
-            ck.to_str().expect("utf-8"),
-            "--threads",
-            threads,
-        ]);
-        assert!(out.status.success(), "{}", stderr(&out));
-    }
-    assert_eq!(
-        dir.manifest("sharded")["started_from_frame"]
-            .as_u64()
-            .map(|f| f > 0),
-        Some(true)
+        &["--threads", "1"],
+        [&["--threads", "2"], &["--threads", "1"]],
     );
-    dir.assert_same_frames("single", "sharded");
 }

@@ -11,7 +11,7 @@
 use physframes::scene::Scene;
 use physframes::sim::contacts::DEFAULT_SLOP;
 
-use crate::util::{example, scene, stderr, Sandbox};
+use crate::util::{example, scene};
 
 const G: f64 = 9.81;
 
@@ -355,41 +355,5 @@ fn the_log_records_collisions_not_resting_contacts() {
 
 #[test]
 fn shards_of_a_resting_scene_carry_the_warm_start_and_equal_a_single_run() {
-    let dir = Sandbox::new();
-    let path = example("tower.toml");
-    let p = path.as_str();
-    let single = dir.run(&[
-        "render",
-        p,
-        "--out",
-        dir.path("single").to_str().expect("utf-8"),
-    ]);
-    assert!(single.status.success(), "{}", stderr(&single));
-    let frames = dir.frames("single").len();
-    let ck = dir.path("ck");
-    let out = dir.run(&[
-        "checkpoint",
-        p,
-        "--every",
-        "20",
-        "--checkpoint-dir",
-        ck.to_str().expect("utf-8"),
-    ]);
-    assert!(out.status.success(), "{}", stderr(&out));
-    let half = frames / 2;
-    for range in [format!("..{half}"), format!("{half}..")] {
-        let out = dir.run(&[
-            "render",
-            p,
-            "--out",
-            dir.path("sharded").to_str().expect("utf-8"),
-            "--frames",
-            &range,
-            "--checkpoint-dir",
-            ck.to_str().expect("utf-8"),
-        ]);
-        assert!(out.status.success(), "{}", stderr(&out));
-    }
-    assert!(dir.manifest("sharded")["started_from_frame"].as_u64() > Some(0));
-    dir.assert_same_frames("single", "sharded");
+    crate::util::assert_shards_equal_a_single_run(&example("tower.toml"), "20", &[], [&[], &[]]);
 }

@@ -203,3 +203,48 @@ pub fn assert_same_bits(a: &physframes::sim::State, b: &physframes::sim::State, 
         );
     }
 }
+
+/// Renders the scene at `path` whole (with `single` added) and again as two shards
+/// (each with its `shards` flags added) that start from checkpoints written every
+/// `every` frames, and checks that the second shard started from a checkpoint and that
+/// the frames are the same bytes.
+pub fn assert_shards_equal_a_single_run(
+    path: &str,
+    every: &str,
+    single: &[&str],
+    shards: [&[&str]; 2],
+) {
+    let dir = Sandbox::new();
+    let out_single = dir.path("single");
+    let mut args = vec!["render", path, "--out", out_single.to_str().expect("utf-8")];
+    args.extend_from_slice(single);
+    let out = dir.run(&args);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let frames = dir.frames("single").len();
+    let ck = dir.path("ck");
+    let ck = ck.to_str().expect("utf-8");
+    let out = dir.run(&["checkpoint", path, "--every", every, "--checkpoint-dir", ck]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let half = frames / 2;
+    let sharded = dir.path("sharded");
+    for (range, extra) in [format!("..{half}"), format!("{half}..")]
+        .iter()
+        .zip(shards)
+    {
+        let mut args = vec![
+            "render",
+            path,
+            "--out",
+            sharded.to_str().expect("utf-8"),
+            "--frames",
+            range,
+            "--checkpoint-dir",
+            ck,
+        ];
+        args.extend_from_slice(extra);
+        let out = dir.run(&args);
+        assert!(out.status.success(), "{}", stderr(&out));
+    }
+    assert!(dir.manifest("sharded")["started_from_frame"].as_u64() > Some(0));
+    dir.assert_same_frames("single", "sharded");
+}
