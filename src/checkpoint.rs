@@ -14,11 +14,13 @@
 //! checkpoints are refused with a message rather than silently wrong.
 //!
 //! File format (`checkpoint-<key>-<frame>.bin`, written atomically): the line
-//! `physframes checkpoint 2`, one line of JSON with the key fields and sizes, then the
+//! `physframes checkpoint 3`, one line of JSON with the key fields and sizes, then the
 //! payload as little-endian f64: positions (x, y per body), velocities, angles and
 //! angular velocities (θ, ω per body), then the trail (x, y per body per earlier
-//! frame). The JSON records the payload's SHA-256. (Version 1, before bodies turned,
-//! had no θ and ω; its files are not read.)
+//! frame), then the resting contacts' warm start (four words a point), then each
+//! collider's time at rest (one word each; infinity for a body asleep). The JSON
+//! records the payload's SHA-256. (Version 1, before bodies turned, had no θ and ω;
+//! version 2, before bodies slept, had no times at rest; their files are not read.)
 
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
@@ -42,7 +44,7 @@ const METHODS_WITHOUT_STEP_STATE: &[&str] =
     &["euler", "symplectic-euler", "midpoint", "heun", "rk4"];
 
 /// The first line of every checkpoint file.
-const MAGIC: &str = "physframes checkpoint 2\n";
+const MAGIC: &str = "physframes checkpoint 3\n";
 
 /// Where checkpoints live and how often a render writes them.
 #[derive(Clone, Debug)]
@@ -119,6 +121,9 @@ pub struct Checkpoint {
     /// The resting contacts' impulses, which start the next step's solver: part of the
     /// state of a scene with collisions.
     pub contacts: Vec<WarmPoint>,
+    /// Each collider's time at rest, `f64::INFINITY` for one asleep: part of the state
+    /// of a scene whose bodies sleep (empty otherwise).
+    pub sleep: Vec<f64>,
 }
 
 /// The JSON line of a checkpoint file.
@@ -131,6 +136,8 @@ struct Header {
     trail_frames: u64,
     #[serde(default)]
     contact_points: u64,
+    #[serde(default)]
+    sleep_entries: u64,
     payload_sha256: String,
 }
 
@@ -155,6 +162,9 @@ impl Checkpoint {
                 .cloned()
                 .collect(),
             contacts: sim.contacts().map_or_else(Vec::new, |c| c.warm_start()),
+            sleep: sim
+                .contacts()
+                .map_or_else(Vec::new, |c| c.sleep_state().to_vec()),
         }
     }
 
@@ -167,6 +177,7 @@ impl Checkpoint {
             .simulation_from(state, integrator)
             .continuing(scene.initial_state().t, self.steps);
         sim.set_contact_warm_start(&self.contacts);
+        sim.set_contact_sleep_state(&self.sleep);
         sim
     }
 
@@ -195,6 +206,10 @@ impl Checkpoint {
             payload.extend_from_slice(&pn.to_bits().to_le_bytes());
             payload.extend_from_slice(&pt.to_bits().to_le_bytes());
         }
+        // Each collider's time at rest, as the bits of an f64.
+        for still in &self.sleep {
+            payload.extend_from_slice(&still.to_bits().to_le_bytes());
+        }
         let header = Header {
             key: key.clone(),
             frame: self.frame,
@@ -202,6 +217,7 @@ impl Checkpoint {
             t_bits: self.t.to_bits(),
             trail_frames: self.trail.len() as u64,
             contact_points: self.contacts.len() as u64,
+            sleep_entries: self.sleep.len() as u64,
             payload_sha256: hex(&Sha256::digest(&payload)),
         };
         let mut out = Vec::with_capacity(payload.len() + 512);
@@ -226,11 +242,15 @@ impl Checkpoint {
         let frames = usize::try_from(header.trail_frames).ok()?;
         let expected_frames = if key.trails { header.frame } else { 0 };
         let points = usize::try_from(header.contact_points).ok()?;
+        let sleep_entries = usize::try_from(header.sleep_entries).ok()?;
         let state_bytes = 16 * n * (3 + frames);
-        if header.trail_frames != expected_frames || payload.len() != state_bytes + 32 * points {
+        if header.trail_frames != expected_frames
+            || payload.len() != state_bytes + 32 * points + 8 * sleep_entries
+        {
             return None;
         }
-        let (payload, warm) = payload.split_at(state_bytes);
+        let (payload, rest) = payload.split_at(state_bytes);
+        let (warm, sleep) = rest.split_at(32 * points);
         let word = |c: &[u8]| u64::from_le_bytes(c.try_into().unwrap_or_default());
         let contacts = warm
             .chunks_exact(32)
@@ -266,6 +286,10 @@ impl Checkpoint {
                 .map(Arc::from)
                 .collect(),
             contacts,
+            sleep: sleep
+                .chunks_exact(8)
+                .map(|c| f64::from_bits(word(c)))
+                .collect(),
         })
     }
 }
@@ -516,6 +540,77 @@ f1 = [0.3, 0.1]
         damaged[last] ^= 1;
         assert!(Checkpoint::from_bytes(&damaged, &key).is_none());
         assert!(Checkpoint::from_bytes(&bytes[..bytes.len() - 8], &key).is_none());
+    }
+
+    /// A box that falls asleep on a floor, and a ball that wakes it at about 1.3 s.
+    const SLEEPING: &str = r#"
+[simulation]
+dt = 0.004166666666666667
+duration = 3.0
+[render]
+width = 32
+height = 32
+fps = 30
+view = { min = [-2.0, -1.0], max = [2.0, 10.0] }
+[contacts]
+restitution = 0.3
+friction = 0.5
+[[body]]
+name = "floor"
+static = true
+position = [0.0, -0.5]
+shape = { box = { width = 4.0, height = 1.0 } }
+[[body]]
+name = "box"
+mass = 1.0
+position = [0.0, 0.25]
+shape = { box = { width = 0.5, height = 0.5 } }
+[[body]]
+name = "ball"
+mass = 1.0
+position = [0.1, 8.6]
+shape = { circle = { radius = 0.1 } }
+[[force]]
+kind = "gravity"
+"#;
+
+    #[test]
+    fn a_checkpoint_carries_which_bodies_sleep() {
+        let scene = parse(Path::new("t.toml"), SLEEPING).expect("a valid scene");
+        let kind = IntegratorKind::Euler;
+        let key = RunKey::new(&scene, kind);
+        let mut straight = scene.simulation();
+        // Frame 30 (t = 1 s): the box has slept since 0.5 s; the ball still falls.
+        straight.advance_to(scene.frame_time(30)).expect("finite");
+        let history: HistoryWriter<Arc<[DVec2]>> = HistoryWriter::new();
+        let checkpoint = Checkpoint::capture(30, &straight, history.history());
+        assert_eq!(checkpoint.sleep.len(), 3);
+        assert_eq!(checkpoint.sleep[1], f64::INFINITY, "the box sleeps");
+        assert!(checkpoint.sleep[2].is_finite(), "the ball is awake");
+        let read = Checkpoint::from_bytes(&checkpoint.to_bytes(&key), &key).expect("reads");
+        assert_eq!(read, checkpoint);
+        let mut resumed = read.restore(&scene, kind);
+        let sleep = |sim: &Simulation| sim.contacts().map(|c| c.sleep_state().to_vec());
+        assert_eq!(sleep(&resumed), sleep(&straight));
+        let end = scene.frame_time(90);
+        for sim in [&mut straight, &mut resumed] {
+            sim.advance_to(end).expect("finite");
+        }
+        let bits = |sim: &Simulation| {
+            let s = sim.state();
+            let mut v: Vec<u64> = s
+                .pos
+                .iter()
+                .chain(&s.vel)
+                .flat_map(|p| [p.x.to_bits(), p.y.to_bits()])
+                .collect();
+            v.extend(s.angle.iter().chain(&s.omega).map(|x| x.to_bits()));
+            v
+        };
+        assert_eq!(bits(&straight), bits(&resumed));
+        assert_eq!(sleep(&straight), sleep(&resumed));
+        // The ball did strike the box after the checkpoint.
+        assert!(straight.state().pos[2].y < 1.0);
     }
 
     #[test]

@@ -9,8 +9,10 @@
 //! everything its integration parameters hold besides the step and the solver's
 //! budget: its contact softness (30 Hz with a damping ratio of 10 between bodies,
 //! 60 Hz against a fixed body), its allowed linear error, its prediction distance and
-//! its contact recycling. Bodies never sleep in it, since ours never do: a sleeping
-//! pyramid costs Rapier nothing to step, which would say nothing about its solver.
+//! its contact recycling. Each engine is built twice: with bodies that never sleep
+//! (ours with `sleep = false`, Rapier's with `can_sleep(false)`), which compares the
+//! solvers, and with sleeping on in both, each with its own default thresholds, which
+//! compares what a user of either gets by default.
 
 use glam::DVec2;
 use physframes::scene::{Scene, Shape};
@@ -37,7 +39,15 @@ pub struct Physframes {
 }
 
 impl Physframes {
-    pub fn new(scene: &Scene) -> Self {
+    /// Builds the scene's simulation, with its bodies sleeping as the scene says when
+    /// `sleeping`, or never.
+    pub fn new(scene: &Scene, sleeping: bool) -> Self {
+        let mut scene = scene.clone();
+        if !sleeping {
+            if let Some(c) = scene.contacts.as_mut() {
+                c.resting.sleep = None;
+            }
+        }
         Physframes {
             sim: scene.simulation(),
         }
@@ -67,8 +77,8 @@ pub struct Rapier {
 impl Rapier {
     /// Builds the scene in Rapier with `substeps` solver substeps a step
     /// (`num_solver_iterations`); every other integration parameter but the step keeps
-    /// Rapier's default.
-    pub fn new(scene: &Scene, substeps: usize) -> Self {
+    /// Rapier's default. Its bodies may sleep (Rapier's default) when `sleeping`.
+    pub fn new(scene: &Scene, substeps: usize, sleeping: bool) -> Self {
         let contacts = scene
             .contacts
             .as_ref()
@@ -97,7 +107,7 @@ impl Rapier {
                 RigidBodyBuilder::dynamic()
                     .linvel(to_rapier(b.velocity))
                     .angvel(b.angular_velocity)
-                    .can_sleep(false)
+                    .can_sleep(sleeping)
             }
             .translation(to_rapier(b.position))
             .rotation(b.angle);

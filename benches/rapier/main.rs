@@ -90,33 +90,52 @@ struct Entry {
     /// What its solver does each step.
     budget: &'static str,
     engine: Box<dyn Engine>,
+    /// The index of the physframes entry its time is compared with.
+    ours: usize,
     /// Its step times in seconds, from the lockstep run.
     times: Vec<f64>,
 }
 
-/// Returns physframes and Rapier at both budgets, each built from `scene`.
+/// Returns physframes and Rapier at both budgets with bodies that never sleep, then
+/// physframes and Rapier's default with sleeping on, each built from `scene`.
 fn entries(scene: &Scene) -> Vec<Entry> {
-    let entry = |id: String, budget, engine: Box<dyn Engine>| Entry {
+    let entry = |id: String, budget, engine: Box<dyn Engine>, ours| Entry {
         id,
         budget,
         engine,
+        ours,
         times: Vec::new(),
     };
     vec![
         entry(
             "physframes".into(),
             "up to 50 sweeps, early exit",
-            Box::new(Physframes::new(scene)),
+            Box::new(Physframes::new(scene, false)),
+            0,
         ),
         entry(
             format!("rapier-{RAPIER_DEFAULT}-substeps"),
             "8 sweeps (Rapier's default)",
-            Box::new(Rapier::new(scene, RAPIER_DEFAULT)),
+            Box::new(Rapier::new(scene, RAPIER_DEFAULT, false)),
+            0,
         ),
         entry(
             format!("rapier-{RAPIER_EQUAL}-substeps"),
             "50 sweeps (equal budget)",
-            Box::new(Rapier::new(scene, RAPIER_EQUAL)),
+            Box::new(Rapier::new(scene, RAPIER_EQUAL, false)),
+            0,
+        ),
+        entry(
+            "physframes-sleeping".into(),
+            "as above, bodies sleep",
+            Box::new(Physframes::new(scene, true)),
+            3,
+        ),
+        entry(
+            format!("rapier-{RAPIER_DEFAULT}-substeps-sleeping"),
+            "8 sweeps, bodies sleep",
+            Box::new(Rapier::new(scene, RAPIER_DEFAULT, true)),
+            3,
         ),
     ]
 }
@@ -165,19 +184,19 @@ fn median_mean(times: &[f64]) -> (f64, f64) {
     (median, times.iter().sum::<f64>() / n as f64)
 }
 
-/// Prints each engine's median and mean step time, and the ratio of our median to each
-/// of Rapier's, then `verdict` of each engine.
+/// Prints each engine's median and mean step time, and the ratio of our median (asleep
+/// or never) to each of Rapier's, then `verdict` of each engine.
 fn print_times(entries: &[Entry], verdict: impl Fn(usize) -> String) {
-    let ours = median_mean(&entries[0].times).0;
     for (i, e) in entries.iter().enumerate() {
         let (median, mean) = median_mean(&e.times);
-        let ratio = if i == 0 {
+        let ratio = if e.ours == i {
             String::new()
         } else {
-            format!(", physframes/this {:.2}", ours / median)
+            let ours = median_mean(&entries[e.ours].times).0;
+            format!(", {}/this {:.2}", entries[e.ours].id, ours / median)
         };
         println!(
-            "  {:<22} {:<28} median {:>8.1} µs/step, mean {:>8.1}{ratio}; {}",
+            "  {:<34} {:<28} median {:>8.1} µs/step, mean {:>8.1}{ratio}; {}",
             e.id,
             e.budget,
             median * 1e6,

@@ -307,7 +307,41 @@ impl Scene {
 
     /// Returns the colliding bodies of a scene with `[contacts]`.
     pub fn contacts(&self) -> Option<Contacts> {
-        Some(contacts_of(&self.bodies, self.contacts.as_ref()?))
+        let restless = self.restless();
+        Some(
+            contacts_of(&self.bodies, self.contacts.as_ref()?)
+                .with_restless(|b| restless.get(b).copied().unwrap_or(true)),
+        )
+    }
+
+    /// Returns, for each body, whether it must never sleep: a force that changes with
+    /// time acts on it, or a spring ties it to another body (whose motion would change
+    /// the spring's pull on a sleeping body without waking it).
+    pub fn restless(&self) -> Vec<bool> {
+        let n = self.bodies.len();
+        let mut restless = vec![false; n];
+        for f in &self.forces {
+            match f {
+                ForceSpec::TimeVarying { f1, bodies, .. } if *f1 != glam::DVec2::ZERO => {
+                    for (i, r) in restless.iter_mut().enumerate() {
+                        *r |= bodies.contains(i);
+                    }
+                }
+                ForceSpec::Spring {
+                    a,
+                    b: crate::sim::forces::Anchor::Body(b),
+                    ..
+                } => {
+                    for k in [*a as usize, *b as usize] {
+                        if let Some(r) = restless.get_mut(k) {
+                            *r = true;
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+        restless
     }
 
     /// Returns the state at t = 0.

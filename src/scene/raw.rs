@@ -79,6 +79,9 @@ pub struct RawContacts {
     pub rest_speed: Option<Spanned<f64>>,
     pub slop: Option<Spanned<f64>>,
     pub iterations: Option<Spanned<i64>>,
+    pub sleep: Option<Spanned<bool>>,
+    pub sleep_speed: Option<Spanned<f64>>,
+    pub sleep_time: Option<Spanned<f64>>,
     pub tolerance: Option<Spanned<f64>>,
     pub bodies: Option<Spanned<Vec<Spanned<String>>>>,
 }

@@ -182,6 +182,15 @@ impl Simulation {
         }
     }
 
+    /// Restores each collider's time at rest and whether it sleeps (see
+    /// [`Contacts::sleep_state`]), as a checkpoint records it; without collisions,
+    /// nothing.
+    pub fn set_contact_sleep_state(&mut self, still: &[f64]) {
+        if let Some(c) = &mut self.contacts {
+            c.contacts.set_sleep_state(still);
+        }
+    }
+
     /// Starts or stops recording every impulse for [`Simulation::take_contact_events`].
     pub fn record_contacts(&mut self, on: bool) {
         if let Some(c) = &mut self.contacts {
@@ -233,6 +242,7 @@ impl Simulation {
             *a = Adaptive::new(a.tol);
         }
         self.set_contact_warm_start(&[]);
+        self.set_contact_sleep_state(&[]);
     }
 
     /// Recreates a simulation that started at `t0` and has taken `steps` steps of size

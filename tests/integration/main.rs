@@ -21,6 +21,7 @@ mod resume;
 mod rotation;
 mod run_length;
 mod shards;
+mod sleep;
 mod studies;
 mod trail_frames;
 mod uniform_step;

@@ -10,7 +10,10 @@ use super::names::{Names, Target};
 use super::Validator;
 use crate::scene::raw::{RawContacts, RawForce, RawScene, RawSimulation};
 use crate::scene::{Body, CompareRun, ContactSettings, Diagnostic, Shape, SimulationSettings};
-use crate::sim::contacts::{Contacts, PolygonProblem, Resting, DEFAULT_ITERATIONS};
+use crate::sim::contacts::{
+    Contacts, PolygonProblem, Resting, Sleep, DEFAULT_ITERATIONS, DEFAULT_SLEEP_FRACTION,
+    DEFAULT_SLEEP_TIME,
+};
 use crate::sim::ForceSpec;
 
 /// Returns |g|·dt for the scene's strongest gravity (0 without gravity): the speed
@@ -34,6 +37,10 @@ pub(super) struct ContactKeys {
     rest_speed: Option<f64>,
     slop: Option<f64>,
     iterations: usize,
+    /// `sleep` (default true), `sleep_speed` and `sleep_time` when given.
+    sleep: bool,
+    sleep_speed: Option<f64>,
+    sleep_time: f64,
 }
 
 /// How many steps' worth of the scene's strongest gravity make the default resting
@@ -78,6 +85,15 @@ impl Validator {
                 None
             }
         };
+        let sleep = c.sleep.as_ref().is_none_or(|s| *s.get_ref());
+        let sleep_speed = match &c.sleep_speed {
+            Some(v) => self.non_negative(v, "sleep_speed").map(Some),
+            None => Some(None),
+        };
+        let sleep_time = c
+            .sleep_time
+            .as_ref()
+            .map_or(Some(DEFAULT_SLEEP_TIME), |t| self.positive(t, "sleep_time"));
         Some(ContactKeys {
             restitution: restitution?,
             tolerance: tolerance?,
@@ -85,6 +101,9 @@ impl Validator {
             rest_speed: rest_speed?,
             slop: slop?,
             iterations: iterations?,
+            sleep,
+            sleep_speed: sleep_speed?,
+            sleep_time: sleep_time?,
         })
     }
 
@@ -151,14 +170,23 @@ impl Validator {
         if !ok {
             return None;
         }
+        let rest_speed = keys.rest_speed.unwrap_or(REST_SPEED_STEPS * gravity_step);
+        // Bodies sleep only where contacts rest (a resting speed above 0).
+        let sleep = (keys.sleep && rest_speed > 0.0).then(|| Sleep {
+            speed: keys
+                .sleep_speed
+                .unwrap_or(DEFAULT_SLEEP_FRACTION * rest_speed),
+            time: keys.sleep_time,
+        });
         let settings = ContactSettings {
             restitution: keys.restitution,
             tolerance: keys.tolerance,
             friction: keys.friction,
             resting: Resting {
-                speed: keys.rest_speed.unwrap_or(REST_SPEED_STEPS * gravity_step),
+                speed: rest_speed,
                 slop: keys.slop,
                 iterations: keys.iterations,
+                sleep,
             },
             bodies: chosen,
         };

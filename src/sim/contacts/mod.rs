@@ -31,14 +31,21 @@
 //! Impacts at the same λ are taken in the order of the colliders' indices (body order),
 //! and nothing depends on threads, so the outcome is the same on every run.
 //!
-//! Nothing persists from one step to the next: a step's contacts are found from its
-//! start and end states alone, so checkpoints, `--resume` and shards need nothing
-//! beyond the state.
+//! With resting contact, two more stages follow (`solver.rs`, `sleep.rs`): the
+//! resting contacts are solved together, and islands of bodies that have rested long
+//! enough fall asleep. A sleeping body keeps its pose and stands still, as a static
+//! body does, until something awake comes near it.
+//!
+//! Contacts are found afresh each step from its start and end states; what persists
+//! besides the state is the resting contacts' warm start and each body's time at rest
+//! (asleep or not), and checkpoints carry both, so `--resume` and shards give the
+//! bytes of a single run.
 
 mod broad_phase;
 pub mod collider;
 pub mod narrow_phase;
 pub mod response;
+mod sleep;
 pub mod solver;
 mod sweep;
 pub mod toi;
@@ -76,6 +83,8 @@ pub struct Resting {
     pub slop: Option<f64>,
     /// Sweeps of the resting-contact solver over every contact, each step.
     pub iterations: usize,
+    /// When bodies at rest fall asleep (`sleep.rs`), or `None` for never.
+    pub sleep: Option<Sleep>,
 }
 
 impl Default for Resting {
@@ -84,9 +93,30 @@ impl Default for Resting {
             speed: 0.0,
             slop: None,
             iterations: DEFAULT_ITERATIONS,
+            sleep: None,
         }
     }
 }
+
+/// When a body at rest falls asleep: once it and every body it rests on or under
+/// (its island) have moved no faster than `speed` for `time`, and the island rests on
+/// something that does not move (see `sleep.rs`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sleep {
+    /// The fastest any point of a body may move and still count as at rest:
+    /// |v| + |ω|·reach ≤ speed.
+    pub speed: f64,
+    /// How long a whole island must stay at rest before it sleeps, in seconds.
+    pub time: f64,
+}
+
+/// The default time an island must stay at rest before it sleeps (Box2D's).
+pub const DEFAULT_SLEEP_TIME: f64 = 0.5;
+
+/// The default sleep speed as a fraction of the resting speed: a tenth, which is
+/// 0.3·|g|·dt with the default resting speed (1.2 cm/s at dt = 1/240 s under Earth's
+/// gravity, near Box2D's 1 cm/s).
+pub const DEFAULT_SLEEP_FRACTION: f64 = 0.1;
 
 /// The default slop as a fraction of the smaller body's size: resting bodies may
 /// overlap by this much, as Box2D's linear slop lets them (0.5 cm for its metre-sized
@@ -151,6 +181,12 @@ pub struct Contacts {
     /// The impulses the resting contacts needed last step, which start this step's:
     /// part of the simulation's state (checkpoints carry it).
     warm: solver::WarmStart,
+    /// Each collider's time at rest so far, or `ASLEEP`: part of the simulation's
+    /// state (checkpoints carry it).
+    still: Vec<f64>,
+    /// The colliders that never sleep: those under a force that changes with time or
+    /// tied by a spring to another body.
+    restless: Vec<bool>,
     scratch: sweep::Scratch,
 }
 
@@ -163,6 +199,8 @@ impl Clone for Contacts {
             logging: self.logging,
             log: self.log.clone(),
             warm: self.warm.clone(),
+            still: self.still.clone(),
+            restless: self.restless.clone(),
             scratch: sweep::Scratch::default(),
         }
     }
@@ -182,6 +220,7 @@ impl Contacts {
     /// with an absolute tolerance or the default relative one.
     pub fn new(colliders: Vec<Collider>, tolerance: Option<f64>) -> Self {
         debug_assert!(colliders.windows(2).all(|w| w[0].body < w[1].body));
+        let n = colliders.len();
         Contacts {
             colliders,
             tolerance,
@@ -189,8 +228,38 @@ impl Contacts {
             logging: false,
             log: Vec::new(),
             warm: solver::WarmStart::new(),
+            still: vec![0.0; n],
+            restless: vec![false; n],
             scratch: sweep::Scratch::default(),
         }
+    }
+
+    /// Returns the contacts in which the bodies for which `restless(body)` is true never
+    /// sleep.
+    pub fn with_restless(mut self, restless: impl Fn(usize) -> bool) -> Self {
+        self.restless = self.colliders.iter().map(|c| restless(c.body)).collect();
+        self
+    }
+
+    /// Returns each collider's time at rest, in collider order, with
+    /// `f64::INFINITY` for a collider asleep: the sleep state a checkpoint records.
+    pub fn sleep_state(&self) -> &[f64] {
+        &self.still
+    }
+
+    /// Restores the sleep state that [`Contacts::sleep_state`] returned; an empty or
+    /// mismatched list wakes everything.
+    pub fn set_sleep_state(&mut self, still: &[f64]) {
+        if still.len() == self.still.len() {
+            self.still.copy_from_slice(still);
+        } else {
+            self.still.fill(0.0);
+        }
+    }
+
+    /// Returns whether the body of collider k is asleep.
+    pub fn is_asleep(&self, k: usize) -> bool {
+        self.still[k] == sleep::ASLEEP
     }
 
     /// Returns the contacts with these resting settings.

@@ -11,6 +11,7 @@ use parry2d_f64::bounding_volume::Aabb;
 use super::broad_phase::{swept_box, BroadPhase};
 use super::narrow_phase::{contact, Contact, Pose};
 use super::response::{closes, collide, normal_velocity, strike_point, Inverse, Side};
+use super::sleep::{hold_or_wake, settle, Islands};
 use super::solver::{self, effective_mass, Manifold, Point, Velocities};
 use super::toi::{time_of_impact, Path};
 use super::{inverse, ContactEvent, Contacts, Overlap, IMPACTS_PER_BODY};
@@ -46,6 +47,7 @@ pub(super) struct Scratch {
     query: Vec<u32>,
     touching: Vec<(u32, u32, Contact)>,
     manifolds: Vec<Manifold>,
+    islands: Islands,
 }
 
 /// An impact of colliders i < j at step fraction λ, valid while neither has been
@@ -86,6 +88,8 @@ impl Contacts {
             logging,
             log,
             warm,
+            still,
+            restless,
             scratch: s,
         } = self;
         let resting = *resting;
@@ -157,6 +161,22 @@ impl Contacts {
             s.boxes.push(swept_box(c, &s.paths[k], margin(k)));
         }
         s.broad.build(s.boxes.iter().copied(), &mut s.pairs);
+        // Sleeping bodies that nothing awake comes near are held where they are, as
+        // static bodies for this step; the others wake (`sleep.rs`).
+        let mut changed = false;
+        if resting.sleep.is_some() {
+            changed = hold_or_wake(
+                still,
+                &s.pairs,
+                colliders,
+                &mut s.inv,
+                &mut s.paths,
+                start,
+                end,
+                spins,
+                &mut s.islands,
+            );
+        }
         {
             let inv = &s.inv;
             s.pairs
@@ -298,7 +318,7 @@ impl Contacts {
                 end.omega[b] = p.omega + rest * p.domega;
             }
         }
-        let mut changed = !s.changed_list.is_empty();
+        changed |= !s.changed_list.is_empty();
 
         // 4. Contacts at the step's end: none may overlap deeper than its allowance,
         // those that approach faster than the resting speed collide now, and the rest
@@ -504,6 +524,21 @@ impl Contacts {
             } else {
                 warm.clear();
             }
+        }
+        // 6. Islands at rest fall asleep (`sleep.rs`).
+        if let Some(sleep) = resting.sleep {
+            changed |= settle(
+                sleep,
+                h,
+                still,
+                restless,
+                &s.touching,
+                colliders,
+                &s.inv,
+                end,
+                spins,
+                &mut s.islands,
+            );
         }
         Ok(changed)
     }

@@ -1,0 +1,232 @@
+//! Sleeping: bodies at rest fall asleep after the sleep time and then stay to the bit;
+//! something awake that comes near wakes them; a body that floats free, or that a
+//! force changing with time or a spring to another body moves, never sleeps; and
+//! `sleep = false` turns it off.
+
+use physframes::scene::Scene;
+use physframes::sim::contacts::DEFAULT_SLEEP_TIME;
+use physframes::sim::Simulation;
+
+use crate::util::scene;
+
+/// A scene at dt = 1/240 s with a static floor (top at y = 0) under gravity, with
+/// `contacts` added to `[contacts]` and the bodies `bodies` after the floor.
+fn on_floor(contacts: &str, bodies: &str) -> Scene {
+    scene(&format!(
+        r#"
+        [simulation]
+        dt = 0.004166666666666667
+        duration = 10.0
+        [render]
+        view = {{ min = [-3.0, -1.0], max = [3.0, 30.0] }}
+        fps = 30
+        [contacts]
+        restitution = 0.0
+        friction = 0.5
+        {contacts}
+        [[body]]
+        name = "floor"
+        static = true
+        position = [0.0, -0.5]
+        shape = {{ box = {{ width = 6.0, height = 1.0 }} }}
+        {bodies}
+        [[force]]
+        kind = "gravity"
+        "#
+    ))
+}
+
+const BOX: &str = r#"
+        [[body]]
+        name = "box"
+        mass = 1.0
+        position = [0.0, 0.25]
+        shape = { box = { width = 0.5, height = 0.5 } }
+"#;
+
+/// Returns whether body `b` (a collider) sleeps.
+fn asleep(sim: &Simulation, b: usize) -> bool {
+    let c = sim.contacts().expect("collides");
+    let k = c
+        .colliders()
+        .iter()
+        .position(|c| c.body == b)
+        .expect("a collider");
+    c.is_asleep(k)
+}
+
+#[test]
+fn a_box_on_the_floor_falls_asleep_after_the_sleep_time_and_then_stays_to_the_bit() {
+    let s = on_floor("", BOX);
+    let mut sim = s.simulation();
+    let mut fell_asleep = None;
+    while fell_asleep.is_none() && sim.state().t < 2.0 {
+        sim.step().expect("finite");
+        if asleep(&sim, 1) {
+            fell_asleep = Some(sim.state().t);
+        }
+    }
+    // It rests from its first step, so it sleeps once a whole sleep time has passed
+    // (to the step: the time at rest is a sum of steps).
+    let t = fell_asleep.expect("it falls asleep");
+    let h = s.simulation.dt;
+    assert!(
+        t >= DEFAULT_SLEEP_TIME - 1e-9 && t <= DEFAULT_SLEEP_TIME + 2.0 * h,
+        "fell asleep at {t}"
+    );
+    // Asleep, it is held exactly: the same bits for 100 s, at rest.
+    let (p, a) = (sim.state().pos[1], sim.state().angle[1]);
+    for _ in 0..24_000 {
+        sim.step().expect("finite");
+        let st = sim.state();
+        assert_eq!(
+            (st.pos[1].x.to_bits(), st.pos[1].y.to_bits()),
+            (p.x.to_bits(), p.y.to_bits())
+        );
+        assert_eq!(st.angle[1].to_bits(), a.to_bits());
+        assert_eq!((st.vel[1], st.omega[1]), (glam::DVec2::ZERO, 0.0));
+    }
+    // Within the slop of where it rests on the floor.
+    assert!((p.y - 0.25).abs() <= 1e-3 * 0.5, "height {}", p.y);
+}
+
+#[test]
+fn a_sleeping_tower_wakes_when_a_ball_falls_on_it_and_sleeps_again_once_it_settles() {
+    // Three boxes stacked, and a ball dropped from high above them, onto the top
+    // box's corner: it falls 20 m, arriving after about 2 s, long after the tower sleeps.
+    let tower = r#"
+        [[body]]
+        name = "b0"
+        mass = 1.0
+        position = [0.0, 0.25]
+        shape = { box = { width = 0.5, height = 0.5 } }
+        [[body]]
+        name = "b1"
+        mass = 1.0
+        position = [0.0, 0.75]
+        shape = { box = { width = 0.5, height = 0.5 } }
+        [[body]]
+        name = "b2"
+        mass = 1.0
+        position = [0.0, 1.25]
+        shape = { box = { width = 0.5, height = 0.5 } }
+        [[body]]
+        name = "ball"
+        mass = 3.0
+        position = [0.2, 21.6]
+        shape = { circle = { radius = 0.1 } }
+    "#;
+    let s = on_floor("", tower);
+    let mut sim = s.simulation();
+    sim.advance_to(1.0).expect("finite");
+    for b in 1..=3 {
+        assert!(asleep(&sim, b), "box {b} sleeps at t = 1");
+    }
+    assert!(!asleep(&sim, 4), "the falling ball is awake");
+    let top = sim.state().pos[3];
+    // The ball strikes: the top box wakes and is knocked; nothing overlaps past the
+    // run's limit (a step that left an overlap would fail).
+    let mut woke = None;
+    while sim.state().t < 3.0 {
+        sim.step().expect("no blow-up, no overlap");
+        if woke.is_none() && !asleep(&sim, 3) {
+            woke = Some(sim.state().t);
+        }
+    }
+    let t = woke.expect("the top box wakes");
+    // Free fall of 20.25 m to the top box's top face: t = √(2·d/g).
+    let arrival = (2.0 * (21.5 - 1.5) / 9.81f64).sqrt();
+    assert!(
+        (t - arrival).abs() < 0.05,
+        "woke at {t}, the ball arrives at {arrival}"
+    );
+    assert!(
+        (sim.state().pos[3] - top).length() > 1e-3,
+        "the top box was knocked"
+    );
+    // It all comes to rest and sleeps again.
+    sim.advance_to(10.0).expect("finite");
+    for b in 1..=4 {
+        assert!(asleep(&sim, b), "body {b} sleeps again at t = 10");
+        assert_eq!(sim.state().vel[b], glam::DVec2::ZERO);
+    }
+    // The ball rests on the tower or on the floor, above the floor.
+    assert!(sim.state().pos[4].y > 0.09);
+}
+
+#[test]
+fn a_body_that_floats_free_or_that_time_or_a_spring_moves_never_sleeps() {
+    // Without gravity but with contacts that rest (rest_speed given): a disc at rest
+    // touches nothing, so it never sleeps.
+    let free = scene(
+        r#"
+        [simulation]
+        dt = 0.01
+        duration = 3.0
+        [render]
+        view = { min = [-1.0, -1.0], max = [1.0, 1.0] }
+        fps = 20
+        [contacts]
+        rest_speed = 0.1
+        [[body]]
+        name = "disc"
+        mass = 1.0
+        shape = { circle = { radius = 0.1 } }
+        [[body]]
+        name = "other"
+        mass = 1.0
+        position = [0.5, 0.5]
+        shape = { circle = { radius = 0.1 } }
+        "#,
+    );
+    let mut sim = free.simulation();
+    sim.advance_to(3.0).expect("finite");
+    assert!(!asleep(&sim, 0) && !asleep(&sim, 1));
+    // On the floor: a box pushed by a force that grows with time (from zero, too
+    // weakly to move it for the first seconds), and two boxes joined by a spring.
+    let pushed = on_floor(
+        "",
+        &format!(
+            "{BOX}\n[[force]]\nkind = \"force\"\nf1 = [1e-3, 0.0]\nbodies = [\"box\"]\n\
+             [[body]]\nname = \"a\"\nmass = 1.0\nposition = [1.5, 0.25]\n\
+             shape = {{ box = {{ width = 0.5, height = 0.5 }} }}\n\
+             [[body]]\nname = \"b\"\nmass = 1.0\nposition = [2.2, 0.25]\n\
+             shape = {{ box = {{ width = 0.5, height = 0.5 }} }}\n\
+             [[force]]\nkind = \"spring\"\na = \"a\"\nb = \"b\"\nstiffness = 10.0\nrest_length = 0.7"
+        ),
+    );
+    let mut sim = pushed.simulation();
+    sim.advance_to(3.0).expect("finite");
+    for b in 1..=3 {
+        assert!(!asleep(&sim, b), "body {b} must not sleep");
+    }
+    // The same box without the force does sleep, so the test can tell.
+    let mut sim = on_floor("", BOX).simulation();
+    sim.advance_to(3.0).expect("finite");
+    assert!(asleep(&sim, 1));
+}
+
+#[test]
+fn sleep_false_keeps_every_body_awake() {
+    let s = on_floor("sleep = false", BOX);
+    assert_eq!(s.contacts.as_ref().and_then(|c| c.resting.sleep), None);
+    let mut sim = s.simulation();
+    sim.advance_to(3.0).expect("finite");
+    assert!(!asleep(&sim, 1));
+    // The keys are checked: a negative sleep speed and a zero sleep time are refused
+    // with the line of the key.
+    for (key, message) in [
+        ("sleep_speed = -1.0", "`sleep_speed` must be ≥ 0"),
+        ("sleep_time = 0.0", "`sleep_time` must be > 0"),
+    ] {
+        let text = format!(
+            "[simulation]\ndt = 0.01\nduration = 1.0\n[render]\nfps = 20\nview = {{ min = [-1.0, -1.0], max = [1.0, 1.0] }}\n[contacts]\n{key}\n[[body]]\nname = \"d\"\nmass = 1.0\nshape = {{ circle = {{ radius = 0.1 }} }}\n"
+        );
+        let err = physframes::scene::parse(std::path::Path::new("t.toml"), &text)
+            .expect_err("refused")
+            .to_string();
+        assert!(err.contains(message), "{err}");
+        assert!(err.contains("t.toml:8:"), "{err}");
+        assert!(err.contains("1 problem"), "{err}");
+    }
+}
