@@ -148,6 +148,9 @@ const KEYS: &[&str] = &[
     "rest_speed",
     "slop",
     "iterations",
+    "sleep",
+    "sleep_speed",
+    "sleep_time",
     "layout",
 ];
 
@@ -180,6 +183,9 @@ const SET_KEYS: &[&str] = &[
     "contacts.rest_speed",
     "contacts.slop",
     "contacts.iterations",
+    "contacts.sleep",
+    "contacts.sleep_speed",
+    "contacts.sleep_time",
     "body.body0.static",
     "body.body0.friction",
     "name",
@@ -194,7 +200,7 @@ const BLOCKS: &[&str] = &[
     "[[force]]\nkind = \"spring\"\na = \"body0\"\nb = [0.0, 0.0]\nstiffness = 10.0\na_at = [0.1, 0.0]\n",
     "[[body]]\nmass = 1.0\nangular_velocity = 3.0\nshape = { polygon = { points = [[0, 0], [1, 0], [0, 1]] } }\nshow_velocity = true\nshow_force = true\n",
     "[contacts]\nrestitution = 0.5\ntolerance = 1e-6\nfriction = 0.3\n",
-    "[contacts]\nrest_speed = 0.1\nslop = 0.01\niterations = 5\n[[body]]\nname = \"floor\"\nstatic = true\nposition = [0.0, -2.0]\nshape = { box = { width = 10.0, height = 0.5 } }\n[[force]]\nkind = \"gravity\"\nbodies = [\"body0\"]\n",
+    "[contacts]\nrest_speed = 0.1\nslop = 0.01\niterations = 5\nsleep_speed = 0.5\nsleep_time = 0.05\n[[body]]\nname = \"floor\"\nstatic = true\nposition = [0.0, -2.0]\nshape = { box = { width = 10.0, height = 0.5 } }\n[[force]]\nkind = \"gravity\"\nbodies = [\"body0\"]\n",
     "[[swarm]]\nname = \"gas\"\ncount = 20\nmass = 1.0\nlayout = \"grid\"\nfriction = 0.5\nrestitution = 0.9\nposition = { min = [-1.0, 1.0], max = [1.0, 2.0] }\nshape = { circle = { radius = 0.02 } }\n",
     "[axes]\n",
     "[[field]]\nkind = \"slope\"\nf = \"-y\"\n",

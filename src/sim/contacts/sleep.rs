@@ -162,6 +162,48 @@ pub(super) fn hold_or_wake(
     holding
 }
 
+/// Returns whether no collider is awake and can move: each is asleep or static (with
+/// 1/M = 0, and 1/I = 0 or a system that does not spin).
+pub(super) fn all_asleep(
+    still: &[f64],
+    colliders: &[Collider],
+    inv_mass: &[f64],
+    inv_inertia: Option<&[f64]>,
+    spins: bool,
+) -> bool {
+    colliders.iter().zip(still).all(|(c, &s)| {
+        let b = c.body;
+        let inertia = match (spins, inv_inertia) {
+            (true, Some(ii)) => ii[b],
+            _ => 0.0,
+        };
+        s == ASLEEP || (inv_mass[b] == 0.0 && inertia == 0.0)
+    })
+}
+
+/// Holds every sleeping collider where the step began, at rest: what
+/// [`hold_or_wake`] does when nothing awake can move.
+pub(super) fn hold_all(
+    still: &[f64],
+    colliders: &[Collider],
+    start: &State,
+    end: &mut State,
+    spins: bool,
+) {
+    for (c, &s) in colliders.iter().zip(still) {
+        if s != ASLEEP {
+            continue;
+        }
+        let b = c.body;
+        end.pos[b] = start.pos[b];
+        end.vel[b] = DVec2::ZERO;
+        if spins {
+            end.angle[b] = start.angle[b];
+            end.omega[b] = 0.0;
+        }
+    }
+}
+
 /// The end of a step: adds h to the time at rest of every awake, movable collider that
 /// moved no faster than the sleep speed (and sets it to 0 for one that moved faster or
 /// never sleeps), joins the colliders of the step's contacts (`touching`) into islands,

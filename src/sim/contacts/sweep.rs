@@ -11,7 +11,7 @@ use parry2d_f64::bounding_volume::Aabb;
 use super::broad_phase::{swept_box, BroadPhase};
 use super::narrow_phase::{contact, Contact, Pose};
 use super::response::{closes, collide, normal_velocity, strike_point, Inverse, Side};
-use super::sleep::{hold_or_wake, settle, Islands};
+use super::sleep::{all_asleep, hold_all, hold_or_wake, settle, Islands};
 use super::solver::{self, effective_mass, Manifold, Point, Velocities};
 use super::toi::{time_of_impact, Path};
 use super::{inverse, ContactEvent, Contacts, Overlap, IMPACTS_PER_BODY};
@@ -118,6 +118,15 @@ impl Contacts {
         };
         // The resting speed as a closing rate per unit of λ along the paths.
         let rest = resting.speed * h;
+
+        // A scene at rest, every body asleep or static: the sleeping bodies are held
+        // and nothing else can happen, which is what the stages below would find, at
+        // the cost of a pass over the bodies.
+        if resting.sleep.is_some() && all_asleep(still, colliders, inv_mass, inv_inertia, spins) {
+            hold_all(still, colliders, start, end, spins);
+            warm.clear();
+            return Ok(true);
+        }
 
         // Each body's path through the step, from what the integrator did.
         s.paths.clear();
