@@ -12,12 +12,19 @@ use crate::util::scene;
 /// A scene at dt = 1/240 s with a static floor (top at y = 0) under gravity, with
 /// `contacts` added to `[contacts]` and the bodies `bodies` after the floor.
 fn on_floor(contacts: &str, bodies: &str) -> Scene {
-    scene(&format!(
+    scene(&on_floor_text(contacts, bodies))
+}
+
+/// The text of [`on_floor`]'s scene.
+fn on_floor_text(contacts: &str, bodies: &str) -> String {
+    format!(
         r#"
         [simulation]
         dt = 0.004166666666666667
         duration = 10.0
         [render]
+        width = 160
+        height = 120
         view = {{ min = [-3.0, -1.0], max = [3.0, 30.0] }}
         fps = 30
         [contacts]
@@ -33,7 +40,7 @@ fn on_floor(contacts: &str, bodies: &str) -> Scene {
         [[force]]
         kind = "gravity"
         "#
-    ))
+    )
 }
 
 const BOX: &str = r#"
@@ -90,11 +97,9 @@ fn a_box_on_the_floor_falls_asleep_after_the_sleep_time_and_then_stays_to_the_bi
     assert!((p.y - 0.25).abs() <= 1e-3 * 0.5, "height {}", p.y);
 }
 
-#[test]
-fn a_sleeping_tower_wakes_when_a_ball_falls_on_it_and_sleeps_again_once_it_settles() {
-    // Three boxes stacked, and a ball dropped from high above them, onto the top
-    // box's corner: it falls 20 m, arriving after about 2 s, long after the tower sleeps.
-    let tower = r#"
+/// Three boxes stacked, and a ball dropped from high above them, onto the top box's
+/// corner: it falls 20 m, arriving after about 2 s, long after the tower sleeps.
+const TOWER: &str = r#"
         [[body]]
         name = "b0"
         mass = 1.0
@@ -116,7 +121,10 @@ fn a_sleeping_tower_wakes_when_a_ball_falls_on_it_and_sleeps_again_once_it_settl
         position = [0.2, 21.6]
         shape = { circle = { radius = 0.1 } }
     "#;
-    let s = on_floor("", tower);
+
+#[test]
+fn a_sleeping_tower_wakes_when_a_ball_falls_on_it_and_sleeps_again_once_it_settles() {
+    let s = on_floor("", TOWER);
     let mut sim = s.simulation();
     sim.advance_to(1.0).expect("finite");
     for b in 1..=3 {
@@ -229,4 +237,21 @@ fn sleep_false_keeps_every_body_awake() {
         assert!(err.contains("t.toml:8:"), "{err}");
         assert!(err.contains("1 problem"), "{err}");
     }
+}
+
+#[test]
+fn shards_that_start_while_the_tower_sleeps_equal_a_single_run() {
+    // 3 s at 30 frames/s: the second shard starts from the checkpoint of frame 40
+    // (1.33 s), with the tower asleep and the ball still falling.
+    let dir = crate::util::Sandbox::new();
+    let path = dir.write(
+        "tower.toml",
+        &on_floor_text("", TOWER).replace("duration = 10.0", "duration = 3.0"),
+    );
+    crate::util::assert_shards_equal_a_single_run(
+        path.to_str().expect("utf-8"),
+        "10",
+        &[],
+        [&[], &[]],
+    );
 }
