@@ -116,6 +116,38 @@ pub fn run(args: CheckArgs, verbosity: Verbosity) -> Result<()> {
                 ),
             }
         );
+        let r = &c.resting;
+        if r.speed > 0.0 {
+            let slop = match r.slop {
+                Some(s) => format!("{}", crate::numbers::Readable(s)),
+                None => format!(
+                    "{:e} of the smaller body's size",
+                    crate::sim::contacts::DEFAULT_SLOP
+                ),
+            };
+            outln!(
+                out,
+                "    friction {}; contacts approaching at most {} m/s rest, overlapping up to {slop}, {} sweeps a step",
+                crate::numbers::Readable(c.friction),
+                crate::numbers::about(r.speed),
+                r.iterations
+            );
+            match r.sleep {
+                Some(sl) => outln!(
+                    out,
+                    "    bodies at rest (at most {} m/s) for {} s fall asleep",
+                    crate::numbers::about(sl.speed),
+                    crate::numbers::Readable(sl.time)
+                ),
+                None => outln!(out, "    bodies never sleep"),
+            }
+        } else {
+            outln!(
+                out,
+                "    friction {}; no resting contact (no gravity and no rest_speed): every approach is a collision",
+                crate::numbers::Readable(c.friction)
+            );
+        }
     }
     outln!(out, "  forces: {}", scene.forces.len());
     for f in &scene.forces {

@@ -255,3 +255,27 @@ fn shards_that_start_while_the_tower_sleeps_equal_a_single_run() {
         [&[], &[]],
     );
 }
+
+#[test]
+fn check_says_how_contacts_rest_and_when_bodies_sleep() {
+    let dir = crate::util::Sandbox::new();
+    let on = dir.write("on.toml", &on_floor_text("", BOX));
+    let off = dir.write("off.toml", &on_floor_text("sleep = false", BOX));
+    let summary = |path: &std::path::Path| {
+        let out = dir.run(&["check", path.to_str().expect("utf-8")]);
+        assert!(out.status.success(), "{}", crate::util::stderr(&out));
+        crate::util::stdout(&out)
+    };
+    // The defaults at dt = 1/240 s under g = 9.81: resting speed 3·g·dt = 0.1226 m/s,
+    // sleep speed a tenth of it, both to three figures.
+    let text = summary(&on);
+    assert!(
+        text.contains("friction 0.5; contacts approaching at most 0.123 m/s rest"),
+        "{text}"
+    );
+    assert!(
+        text.contains("bodies at rest (at most 0.0123 m/s) for 0.5 s fall asleep"),
+        "{text}"
+    );
+    assert!(summary(&off).contains("bodies never sleep"));
+}
