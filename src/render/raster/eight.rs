@@ -66,6 +66,7 @@ mod imp {
         unsafe { blend8_sse2(px, x0, spans, ink) }
     }
 
+    /// The body of [`blend8`], unsafe only in that the processor must have SSE2.
     #[inline(always)]
     unsafe fn blend8_sse2(px: &mut [u8; 32], x0: i64, spans: &[Span; 4], ink: &Ink) {
         let lanes = _mm_setr_epi16(0, 4, 8, 12, 16, 20, 24, 28);
