@@ -159,6 +159,16 @@ impl Ink {
         }
     }
 
+    /// Returns the ink's premultiplied channels, red, green, blue and alpha.
+    pub fn rgba(&self) -> [u16; 4] {
+        self.rgba
+    }
+
+    /// Returns true when the ink is opaque, so that [`Ink::blend`] interpolates.
+    pub fn is_opaque(&self) -> bool {
+        self.opaque
+    }
+
     /// Blends this ink with coverage `c` over the pixel `d`, as tiny-skia's 8-bit
     /// pipeline does, with div255(v) = (v + 255) >> 8:
     /// opaque ink: d' = div255(d·(255 - c) + s·c) (linear interpolation);

@@ -29,6 +29,7 @@
 //! the fixed-point arithmetic cannot overflow (tiny-skia's limit is 8191 pixels).
 
 mod convex;
+mod eight;
 mod shapes;
 
 use std::cell::RefCell;
@@ -343,6 +344,71 @@ mod tests {
             across <= 16,
             "across the edge: largest difference {across}/255"
         );
+    }
+
+    #[test]
+    fn convex_fills_eight_pixels_at_a_time_blend_the_coverage_pixel_by_pixel() {
+        // fill_convex covers and blends a convex polygon without a hole eight pixels
+        // at a time; cover_convex hands out the same scan's coverage pixel by pixel,
+        // and Ink::blend of each must give the same bytes: thin bars (arrows' shafts)
+        // and triangles (their heads) of every direction, small and wide shapes, over
+        // a background that varies from pixel to pixel, opaque and translucent,
+        // inside the image and across each of its edges (the right edge, where eight
+        // pixels would pass it, goes pixel by pixel). The image is 37 pixels wide, so
+        // rows end at every remainder of eight.
+        let (w, h) = (37u32, 29u32);
+        let mut background = Pixmap::new(w, h).expect("pixmap");
+        for (i, px) in background.data_mut().chunks_exact_mut(4).enumerate() {
+            let v = (i * 37 % 251) as u8;
+            px.copy_from_slice(&[v, 255 - v, v / 2, 255]);
+        }
+        let inks = [
+            Color::from_rgba8(0x1f, 0x4e, 0x9c, 0xff),
+            Color::from_rgba8(0xc0, 0x39, 0x2b, 0x99),
+        ];
+        for k in 0..600u32 {
+            let a = f64::from(k) * 2.399_963;
+            let (cx, cy) = (
+                -6.0 + f64::from(k % 17) * 2.9 + 0.13,
+                -5.0 + f64::from(k % 13) * 3.1 + 0.29,
+            );
+            let len = 0.3 + f64::from(k % 23) * 1.7;
+            let points: Vec<Point> = match k % 3 {
+                0 => {
+                    let (dx, dy) = (len * a.cos(), len * a.sin());
+                    let end = ((cx + dx) as f32, (cy + dy) as f32);
+                    let half = [1.0, 0.75, 1.5][(k / 3 % 3) as usize];
+                    match bar((cx as f32, cy as f32), end, half) {
+                        Some(q) => q.to_vec(),
+                        None => continue,
+                    }
+                }
+                1 => (0..3)
+                    .map(|i| {
+                        let t = a + f64::from(i) * 2.1;
+                        (
+                            (cx + len * t.cos()) as f32,
+                            (cy + 0.6 * len * t.sin()) as f32,
+                        )
+                    })
+                    .collect(),
+                _ => (0..5)
+                    .map(|i| {
+                        let t = a + f64::from(i) * std::f64::consts::TAU / 5.0;
+                        ((cx + len * t.cos()) as f32, (cy + len * t.sin()) as f32)
+                    })
+                    .collect(),
+            };
+            let ink = ink(inks[(k % 2) as usize]);
+            let mut ours = background.clone();
+            fill_convex(&mut ours, &points, ink);
+            let mut theirs = background.clone();
+            let data = theirs.data_mut();
+            cover_convex(w, h, &points, |i, c| {
+                ink.blend(&mut data[4 * i..4 * i + 4], c)
+            });
+            assert!(ours.data() == theirs.data(), "polygon {k}: {points:?}");
+        }
     }
 
     #[test]
