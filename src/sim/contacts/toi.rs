@@ -203,15 +203,29 @@ const MIN_SAMPLES: f64 = 16.0;
 fn approaching(a: &Collider, pa: &Path, b: &Collider, pb: &Path, lambda: f64, lim: Limits) -> bool {
     let tol = lim.tol;
     let (posa, posb) = (pa.pose(lambda), pb.pose(lambda));
-    let closing = |p: DVec2, n: DVec2| {
-        let (ua, ub) = (pa.point_rate(posa.r, p), pb.point_rate(posb.r, p));
-        closes((ua - ub).dot(n), ua.length() + ub.length(), lim.rest)
-    };
+    let closing = |p: DVec2, n: DVec2| closing_at(pa, &posa, pb, &posb, p, n, lim.rest);
     match contact(a, &posa, b, &posb, 2.0 * tol, tol) {
         Some(c) => c.points().iter().any(|p| closing(*p, c.normal)),
         // Deeper than the manifold reaches: the closest points answer.
         None => separation(a, &posa, b, &posb).is_some_and(|s| closing(s.point, s.normal)),
     }
+}
+
+/// Returns true when the bodies' points at p, a at `posa` and b at `posb` on their
+/// paths, close along n faster than `rest`: (u_a - u_b)·n < -rest, with u the
+/// point's rate per unit λ, Δr + Δθ·(p - r)⊥ (see [`closes`] for round-off).
+#[inline]
+fn closing_at(
+    pa: &Path,
+    posa: &Pose,
+    pb: &Path,
+    posb: &Pose,
+    p: DVec2,
+    n: DVec2,
+    rest: f64,
+) -> bool {
+    let (ua, ub) = (pa.point_rate(posa.r, p), pb.point_rate(posb.r, p));
+    closes((ua - ub).dot(n), ua.length() + ub.length(), rest)
 }
 
 /// Finds the first impact after `from` by sampling the gap at steps over which neither
@@ -231,10 +245,24 @@ fn sample(a: &Collider, pa: &Path, b: &Collider, pb: &Path, from: f64, lim: Limi
     } else {
         rest / MIN_SAMPLES
     };
-    // In contact, and approaching at one of the contact's points.
+    // In contact (the gap at most tol/2), and approaching at one of the contact's
+    // points. The manifold answers first: a pair at rest, whose points do not
+    // approach, is then answered without the separation's GJK and EPA.
     let hit = |lambda: f64| {
-        separation(a, &pa.pose(lambda), b, &pb.pose(lambda))
-            .is_some_and(|s| s.gap <= accept && approaching(a, pa, b, pb, lambda, lim))
+        let (posa, posb) = (pa.pose(lambda), pb.pose(lambda));
+        let in_contact = || separation(a, &posa, b, &posb).is_some_and(|s| s.gap <= accept);
+        match contact(a, &posa, b, &posb, 2.0 * lim.tol, lim.tol) {
+            Some(c) => {
+                c.points()
+                    .iter()
+                    .any(|p| closing_at(pa, &posa, pb, &posb, *p, c.normal, lim.rest))
+                    && in_contact()
+            }
+            // Deeper than the manifold reaches, or apart: the closest points answer.
+            None => separation(a, &posa, b, &posb).is_some_and(|s| {
+                s.gap <= accept && closing_at(pa, &posa, pb, &posb, s.point, s.normal, lim.rest)
+            }),
+        }
     };
     let mut prev = from;
     while prev < 1.0 {
