@@ -304,7 +304,7 @@ fn rest_bound(
     let radius = a.reach + m;
     // H_b(λ0) = max over B of n·x, and s_b = |Δθ_b|·reach_b (0 for a disc).
     let (support, s_b) = match &b.shape {
-        ColliderShape::Disc { radius } => (n.dot(posb.r) + radius, 0.0),
+        ColliderShape::Disc { radius: rb } => (n.dot(posb.r) + rb, 0.0),
         ColliderShape::Convex { points, .. } => (
             points
                 .iter()
