@@ -114,3 +114,80 @@ bodies() {
     bodies 1000 23 turning
     footer
 } >turning-boxes-1000.toml
+
+# mixed_contacts COUNT SEED: COUNT circles, boxes and triangles in a grid above a tilted
+# static ramp and a static floor, each at its own angle with a small velocity, arrows on
+# every fifth body; the colliding bodies' [[body]] tables only (issue #16's style).
+mixed_contacts() {
+    awk -v n="$1" -v seed="$2" '
+    function rnd() { x = (x * 16807) % 2147483647; return x / 2147483647 }
+    function uniform(a, b) { return a + (b - a) * rnd() }
+    BEGIN {
+        x = seed
+        cols = 25
+        for (i = 0; i < n; i++) {
+            # A grid 25 wide, 0.56 apart, from 2.9 up: no two bodies (at most 0.3
+            # across) touch at the start, and the lowest row is above the ramp.
+            px = 1.2 + 0.56 * (i % cols) + uniform(-0.05, 0.05)
+            py = 2.9 + 0.5 * int(i / cols) + uniform(-0.05, 0.05)
+            vx = uniform(-0.5, 0.5); vy = uniform(-0.5, 0.5)
+            printf "[[body]]\nmass = 1.0\nposition = [%.4f, %.4f]\nvelocity = [%.4f, %.4f]\n", px, py, vx, vy
+            k = int(3 * rnd())
+            if (k == 0) print "shape = { circle = { radius = 0.1 } }"
+            else {
+                printf "angle = %.4f\n", uniform(-3.1416, 3.1416)
+                if (k == 1) print "shape = { box = { width = 0.24, height = 0.16 } }"
+                else print "shape = { polygon = { points = [[-0.12, -0.08], [0.12, -0.08], [0.0, 0.13]] } }"
+            }
+            if (i % 5 == 0) print "show_velocity = true"
+        }
+    }'
+    printf '\n'
+}
+
+{
+    cat <<'HEAD'
+# Benchmark: 300 circles, boxes and triangles, one [[body]] table each in the default
+# colours, dropped onto a tilted static ramp and a static floor under gravity, with
+# friction 0.5 and restitution 0.3, trails, and velocity arrows on every fifth body, at
+# dt = 1/240 s: a scene written as a user writes it whose time goes to the contacts
+# (the times of impact of resting bodies that turn). Written by
+# scenes/bench/make-scenes.sh. Bench it with
+#   physframes bench scenes/bench/mixed-contacts-300.toml --simulate-only --repeat 3
+#   physframes bench scenes/bench/mixed-contacts-300.toml --repeat 3
+name = "mixed-contacts-300"
+
+[simulation]
+dt = 0.004166666666666667   # 1/240 s
+duration = 5.0
+
+[render]
+width = 1280
+height = 720
+fps = 30
+view = { min = [0.0, -0.5], max = [16.0, 8.5] }
+trails = true
+
+[contacts]
+friction = 0.5
+restitution = 0.3
+
+[[force]]
+kind = "gravity"
+
+[[body]]
+name = "floor"
+static = true
+position = [8.0, -0.2]
+shape = { box = { width = 20.0, height = 0.4 } }
+
+[[body]]
+name = "ramp"
+static = true
+position = [4.0, 1.5]
+angle = -0.3
+shape = { box = { width = 6.0, height = 0.2 } }
+
+HEAD
+    mixed_contacts 300 29
+} >mixed-contacts-300.toml
