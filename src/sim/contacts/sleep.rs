@@ -34,6 +34,7 @@ use glam::DVec2;
 
 use super::narrow_phase::Contact;
 use super::response::Inverse;
+use super::sweep::immovable;
 use super::toi::Path;
 use super::{Collider, Sleep};
 use crate::sim::State;
@@ -84,9 +85,15 @@ impl Islands {
     }
 }
 
-/// Returns whether collider k cannot move at all (a static body).
-fn immovable(inv: &Inverse) -> bool {
-    inv.mass == 0.0 && inv.inertia == 0.0
+/// Holds body b where the step began, at rest: its pose at the start, and no velocity
+/// or spin (whatever the integrator made of them).
+fn hold(b: usize, start: &State, end: &mut State, spins: bool) {
+    end.pos[b] = start.pos[b];
+    end.vel[b] = DVec2::ZERO;
+    if spins {
+        end.angle[b] = start.angle[b];
+        end.omega[b] = 0.0;
+    }
 }
 
 /// The start of a step: wakes every sleeping collider that an awake, movable one may
@@ -143,12 +150,7 @@ pub(super) fn hold_or_wake(
         }
         holding = true;
         let b = colliders[k].body;
-        end.pos[b] = start.pos[b];
-        end.vel[b] = DVec2::ZERO;
-        if spins {
-            end.angle[b] = start.angle[b];
-            end.omega[b] = 0.0;
-        }
+        hold(b, start, end, spins);
         let p = &mut paths[k];
         p.r = start.pos[b];
         p.angle = end.angle[b];
@@ -162,25 +164,6 @@ pub(super) fn hold_or_wake(
     holding
 }
 
-/// Returns whether no collider is awake and can move: each is asleep or static (with
-/// 1/M = 0, and 1/I = 0 or a system that does not spin).
-pub(super) fn all_asleep(
-    still: &[f64],
-    colliders: &[Collider],
-    inv_mass: &[f64],
-    inv_inertia: Option<&[f64]>,
-    spins: bool,
-) -> bool {
-    colliders.iter().zip(still).all(|(c, &s)| {
-        let b = c.body;
-        let inertia = match (spins, inv_inertia) {
-            (true, Some(ii)) => ii[b],
-            _ => 0.0,
-        };
-        s == ASLEEP || (inv_mass[b] == 0.0 && inertia == 0.0)
-    })
-}
-
 /// Holds every sleeping collider where the step began, at rest: what
 /// [`hold_or_wake`] does when nothing awake can move.
 pub(super) fn hold_all(
@@ -191,15 +174,8 @@ pub(super) fn hold_all(
     spins: bool,
 ) {
     for (c, &s) in colliders.iter().zip(still) {
-        if s != ASLEEP {
-            continue;
-        }
-        let b = c.body;
-        end.pos[b] = start.pos[b];
-        end.vel[b] = DVec2::ZERO;
-        if spins {
-            end.angle[b] = start.angle[b];
-            end.omega[b] = 0.0;
+        if s == ASLEEP {
+            hold(c.body, start, end, spins);
         }
     }
 }

@@ -11,7 +11,7 @@ use parry2d_f64::bounding_volume::Aabb;
 use super::broad_phase::{swept_box, BroadPhase};
 use super::narrow_phase::{contact, Contact, Pose};
 use super::response::{closes, collide, normal_velocity, strike_point, Inverse, Side};
-use super::sleep::{all_asleep, hold_all, hold_or_wake, settle, Islands};
+use super::sleep::{hold_all, hold_or_wake, settle, Islands, ASLEEP};
 use super::solver::{self, effective_mass, Manifold, Point, Velocities};
 use super::toi::{time_of_impact, Path};
 use super::{inverse, ContactEvent, Contacts, Overlap, IMPACTS_PER_BODY};
@@ -119,15 +119,6 @@ impl Contacts {
         // The resting speed as a closing rate per unit of λ along the paths.
         let rest = resting.speed * h;
 
-        // A scene at rest, every body asleep or static: the sleeping bodies are held
-        // and nothing else can happen, which is what the stages below would find, at
-        // the cost of a pass over the bodies.
-        if resting.sleep.is_some() && all_asleep(still, colliders, inv_mass, inv_inertia, spins) {
-            hold_all(still, colliders, start, end, spins);
-            warm.clear();
-            return Ok(true);
-        }
-
         // Each body's path through the step, from what the integrator did.
         s.paths.clear();
         s.inv.clear();
@@ -155,7 +146,20 @@ impl Contacts {
                 domega: w1 - w0,
             });
         }
-        let fixed = |inv: &[Inverse], i: usize| inv[i].mass == 0.0 && inv[i].inertia == 0.0;
+        // A scene at rest, every body asleep or static: the sleeping bodies are held
+        // and nothing else can happen, which is what the stages below would find, at
+        // the cost of a pass over the bodies.
+        if resting.sleep.is_some()
+            && still
+                .iter()
+                .zip(&s.inv)
+                .all(|(&t, inv)| t == ASLEEP || immovable(inv))
+        {
+            hold_all(still, colliders, start, end, spins);
+            warm.clear();
+            return Ok(true);
+        }
+        let fixed = |inv: &[Inverse], i: usize| immovable(&inv[i]);
         s.version.clear();
         s.version.resize(n, 0);
         s.changed.clear();
@@ -554,7 +558,7 @@ impl Contacts {
 }
 
 /// Returns true for a collider that nothing moves: 1/M = 1/I = 0.
-fn immovable(inv: &Inverse) -> bool {
+pub(super) fn immovable(inv: &Inverse) -> bool {
     inv.mass == 0.0 && inv.inertia == 0.0
 }
 
