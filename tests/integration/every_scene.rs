@@ -294,6 +294,13 @@ fn scenes_written_as_users_write_them_give_the_same_bytes_with_one_and_two_threa
     let trails = user_scene(60, 0, true, false);
     same_bytes_with_one_and_two_threads("trails", &trails, "0..24");
     same_bytes_with_one_and_two_threads("late-trails", &trails, "17..29");
+    // Bodies that collide, rest, turn and fall asleep on a ramp and a floor, with
+    // trails and arrows (the bench's scene, drawn smaller), after they have settled.
+    let contacts = std::fs::read_to_string(crate::util::example("bench/mixed-contacts-300.toml"))
+        .expect("readable")
+        .replace("width = 1280", "width = 320")
+        .replace("height = 720", "height = 180");
+    same_bytes_with_one_and_two_threads("contacts", &contacts, "100..106");
 }
 
 /// The positions of a scene's bodies at each of its first `frames` frames, as the
