@@ -205,6 +205,14 @@ const SAMPLE_TURN: f64 = 0.02;
 /// The fewest samples [`sample`] takes over what is left of a step.
 const MIN_SAMPLES: f64 = 16.0;
 
+/// The most samples [`sample`] takes over what is left of a step: 0.02 rad apart, a body
+/// turning up to 82 rad in one step (20,000 rad/s at dt = 1/240 s) is sampled as finely
+/// as any other. A body spun faster than that by a hostile or mistaken scene (10¹² rad/s
+/// would mean 10¹³ samples, a search that never ends) is sampled this many times, more
+/// coarsely, and a contact missed between samples is left to the end-of-step overlap
+/// check, which stops the run with exit code 3.
+const MAX_SAMPLES: f64 = 4096.0;
+
 /// Returns true when a and b, in contact at λ, approach along their paths at any of
 /// their contact points: where the gap's rate of change, (u_a - u_b)·n per unit λ,
 /// is negative. An edge against an edge touches at two points, and a body rocking on
@@ -239,7 +247,8 @@ fn closing_at(
 }
 
 /// Finds the first impact after `from` by sampling the gap at steps over which neither
-/// body turns more than [`SAMPLE_TURN`] (and at least [`MIN_SAMPLES`] of them), then
+/// body turns more than [`SAMPLE_TURN`] (at least [`MIN_SAMPLES`] of them and at most
+/// [`MAX_SAMPLES`]), then
 /// halving the first interval whose end is in contact until the instant the gap falls
 /// to the tolerance is bracketed to round-off: the article's halving of the step.
 ///
@@ -253,7 +262,9 @@ fn sample(a: &Collider, pa: &Path, b: &Collider, pb: &Path, from: f64, lim: Limi
     let turn = pa.dangle.abs().max(pb.dangle.abs());
     let rest = 1.0 - from;
     let stride = if turn > 0.0 {
-        (SAMPLE_TURN / turn).min(rest / MIN_SAMPLES)
+        (SAMPLE_TURN / turn)
+            .min(rest / MIN_SAMPLES)
+            .max(rest / MAX_SAMPLES)
     } else {
         rest / MIN_SAMPLES
     };
@@ -261,6 +272,8 @@ fn sample(a: &Collider, pa: &Path, b: &Collider, pb: &Path, from: f64, lim: Limi
     // points. The manifold answers first: a pair at rest, whose points do not
     // approach, is then answered without the separation's GJK and EPA.
     let hit = |lambda: f64| {
+        #[cfg(test)]
+        tests::HITS.with(|c| c.set(c.get() + 1));
         let (posa, posb) = (pa.pose(lambda), pb.pose(lambda));
         let in_contact = || separation(a, &posa, b, &posb).is_some_and(|s| s.gap <= accept);
         match contact(a, &posa, b, &posb, 2.0 * lim.tol, lim.tol) {
@@ -309,6 +322,8 @@ mod tests {
     thread_local! {
         /// How many times this thread's searches fell through to [`sample`].
         pub(super) static SAMPLED: Cell<usize> = const { Cell::new(0) };
+        /// How many instants this thread's samplings tested.
+        pub(super) static HITS: Cell<usize> = const { Cell::new(0) };
     }
 
     /// Returns how many times `f` made this thread's searches sample, and its result.
@@ -418,6 +433,29 @@ mod tests {
             c.gap >= 0.0 && c.gap <= 0.5 * tol,
             "gap {} at λ = {lambda}",
             c.gap
+        );
+    }
+
+    #[test]
+    fn a_body_spun_absurdly_fast_is_sampled_at_most_max_samples_times_a_search() {
+        // The bar above turning 10¹² rad in one step, its centre 2 above a floor it can
+        // never reach (its ends are 1 from its centre): conservative advancement creeps
+        // by 0.5/10¹² a time, and then the search samples the rest of the step, 0.02
+        // rad apart, which would be 5·10¹³ samples. It tests at most MAX_SAMPLES
+        // instants, and finds nothing.
+        let bar = Collider::rectangle(0, 2.0, 0.2, 1.0).expect("a box");
+        let floor = Collider::rectangle(1, 10.0, 1.0, 1.0).expect("a box");
+        let mut pb = moving(DVec2::ZERO, DVec2::ZERO);
+        pb.dangle = 1e12;
+        let pf = moving(DVec2::new(0.0, -2.0), DVec2::ZERO);
+        HITS.with(|c| c.set(0));
+        let found = time_of_impact(&bar, &pb, &floor, &pf, 0.0, 1e-7, 0.0);
+        let hits = HITS.with(|c| c.get());
+        assert_eq!(found, None);
+        assert!(
+            // (One more where the strides' round-off falls short of the step's end.)
+            hits > 1000 && hits as f64 <= MAX_SAMPLES + 1.0,
+            "{hits} instants tested in one search"
         );
     }
 
