@@ -51,8 +51,9 @@ pub fn run(args: ExportArgs) -> Result<()> {
             }
         }
         Some(path) => {
-            // Write beside the target, then rename, so the CSV is never half-written.
-            let tmp = crate::output::temp_file_beside(path)?;
+            // Written beside the target, then renamed, so the CSV is never half-written
+            // (a device or pipe is written in place: see `output::Output`).
+            let tmp = crate::output::Output::create(path)?;
             let mut out = BufWriter::new(tmp);
             let b = write_trajectory(
                 &scene,
@@ -64,7 +65,7 @@ pub fn run(args: ExportArgs) -> Result<()> {
             let tmp = out
                 .into_inner()
                 .map_err(|e| Error::io("cannot write", path.clone(), e.into_error()))?;
-            tmp.persist(path)
+            tmp.finish()
                 .map_err(|e| Error::io("cannot move the finished file to", path.clone(), e))?;
             b
         }

@@ -355,16 +355,15 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), DiffError> {
         _ => Path::new("."),
     };
     std::fs::create_dir_all(dir).map_err(|e| write_error(path, e))?;
-    let file = crate::output::TempFile::new_in(dir).map_err(|e| write_error(path, e))?;
+    let file = crate::output::Output::create(path)
+        .map_err(|e| write_error(path, std::io::Error::other(e.to_string())))?;
     let mut writer = BufWriter::new(file);
     writer.write_all(bytes).map_err(|e| write_error(path, e))?;
     let file = writer
         .into_inner()
         .map_err(|e| write_error(path, e.into_error()))?;
-    file.as_file()
-        .sync_all()
-        .map_err(|e| write_error(path, e))?;
-    file.persist(path).map_err(|e| write_error(path, e))?;
+    file.sync().map_err(|e| write_error(path, e))?;
+    file.finish().map_err(|e| write_error(path, e))?;
     Ok(())
 }
 

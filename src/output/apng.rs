@@ -18,7 +18,7 @@ pub fn write_apng(dir: &Path, frames: Range<u64>, fps: f64, out: &Path) -> Resul
     let count = u32::try_from(frames.end - frames.start)
         .map_err(|_| Error::Usage("--apng: too many frames for one APNG".into()))?;
     let (num, den) = frame_delay(fps);
-    let tmp = super::temp_file_beside(out)?;
+    let tmp = super::Output::create(out)?;
     let encode_error =
         |e: png::EncodingError| Error::Runtime(format!("cannot encode the APNG: {e}"));
     {
@@ -53,7 +53,7 @@ pub fn write_apng(dir: &Path, frames: Range<u64>, fps: f64, out: &Path) -> Resul
             w.finish().map_err(encode_error)?;
         }
     }
-    tmp.persist(out)
+    tmp.finish()
         .map_err(|e| Error::io("cannot move the finished file to", out, e))?;
     Ok(())
 }

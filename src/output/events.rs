@@ -17,13 +17,13 @@ pub const EVENTS_HEADER: &str = "t,a,b,px,py,nx,ny,vn_before,vn_after,impulse,jt
 /// so that a reader never sees half a file.
 pub struct EventLog {
     path: PathBuf,
-    out: BufWriter<super::TempFile>,
+    out: BufWriter<super::Output>,
 }
 
 impl EventLog {
     /// Starts the log that will be `path`, writing its header.
     pub fn create(path: &Path) -> Result<Self> {
-        let tmp = super::temp_file_beside(path)?;
+        let tmp = super::Output::create(path)?;
         let mut out = BufWriter::new(tmp);
         writeln!(out, "{EVENTS_HEADER}").map_err(|e| Error::io("cannot write", path, e))?;
         Ok(EventLog {
@@ -50,7 +50,7 @@ impl EventLog {
             .out
             .into_inner()
             .map_err(|e| Error::io("cannot write", &path, e.into_error()))?;
-        tmp.persist(&path)
+        tmp.finish()
             .map_err(|e| Error::io("cannot move the finished file to", &path, e))?;
         Ok(())
     }

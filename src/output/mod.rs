@@ -3,20 +3,22 @@
 //! A file physframes writes is either absent or complete: each is written to a
 //! temporary file in the same folder and renamed into place, so an interrupted run
 //! never leaves a half-written frame behind; Ctrl-C removes the temporary file too
-//! ([`TempFile`], [`crate::interrupt`]).
+//! ([`TempFile`], [`crate::interrupt`]). A device or pipe is written in place
+//! ([`Output`], in `file.rs`).
 
 pub mod apng;
 mod csv;
 pub mod events;
+mod file;
 mod manifest;
 mod resume;
 pub mod video;
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 pub use csv::write_trajectory;
 pub use events::{EventLog, EVENTS_HEADER};
+pub use file::{temp_file_beside, write_atomic, Output, TempFile};
 pub use manifest::{Failure, Manifest, Timings};
 pub use resume::reusable_frames;
 
@@ -34,91 +36,6 @@ pub fn parse_frame_file_name(name: &str) -> Option<u64> {
         return None;
     }
     digits.parse().ok()
-}
-
-/// Writes `bytes` to `path` atomically: a temporary file in the same folder, flushed,
-/// then renamed over `path`.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let mut tmp = temp_file_beside(path)?;
-    tmp.write_all(bytes)
-        .map_err(|e| Error::io("cannot write", tmp.path().to_path_buf(), e))?;
-    tmp.persist(path)
-        .map_err(|e| Error::io("cannot move a finished file to", path, e))?;
-    Ok(())
-}
-
-/// Creates a temporary file in the folder of `path`, to be renamed onto it when
-/// complete. Its permissions are those of an ordinary new file (0666 less the umask,
-/// usually 0644), not the owner-only 0600 of temporary files, since it becomes one.
-pub fn temp_file_beside(path: &Path) -> Result<TempFile> {
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    TempFile::new_in(dir).map_err(|e| Error::io("cannot create a temporary file in", dir, e))
-}
-
-/// A temporary file named `.physframes-*.tmp`, removed when dropped unless it was
-/// renamed into place, and listed with [`crate::interrupt`] while it exists, so that
-/// Ctrl-C removes it too.
-#[derive(Debug)]
-pub struct TempFile {
-    // Dropped first: the file is removed before it leaves the list.
-    file: tempfile::NamedTempFile,
-    _listed: crate::interrupt::Listed,
-}
-
-impl TempFile {
-    /// Creates a temporary file in `dir`.
-    pub fn new_in(dir: &Path) -> std::io::Result<TempFile> {
-        let mut builder = tempfile::Builder::new();
-        builder.prefix(".physframes-").suffix(".tmp");
-        #[cfg(unix)]
-        {
-            use std::os::unix::fs::PermissionsExt;
-            builder.permissions(std::fs::Permissions::from_mode(0o666));
-        }
-        let (file, listed) =
-            crate::interrupt::create_listed(|| builder.tempfile_in(dir), |f| f.path())?;
-        Ok(TempFile {
-            file,
-            _listed: listed,
-        })
-    }
-
-    /// Returns the temporary file's path.
-    pub fn path(&self) -> &Path {
-        self.file.path()
-    }
-
-    /// Returns the open file.
-    pub fn as_file(&self) -> &std::fs::File {
-        self.file.as_file()
-    }
-
-    /// Renames the file onto `path`, replacing what is there.
-    pub fn persist(self, path: &Path) -> std::io::Result<()> {
-        self.file.persist(path).map(drop).map_err(|e| e.error)
-    }
-
-    /// Renames the file onto `path` only if no file has that name; fails with
-    /// `AlreadyExists` otherwise.
-    pub fn persist_noclobber(self, path: &Path) -> std::io::Result<()> {
-        self.file
-            .persist_noclobber(path)
-            .map(drop)
-            .map_err(|e| e.error)
-    }
-}
-
-impl Write for TempFile {
-    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-        self.file.write(buf)
-    }
-
-    fn flush(&mut self) -> std::io::Result<()> {
-        self.file.flush()
-    }
 }
 
 /// Lists the frame files in `dir`, with their numbers, in increasing order.

@@ -55,7 +55,7 @@ pub fn write_mp4(
     fps: f64,
     out: &Path,
 ) -> Result<()> {
-    let tmp = super::temp_file_beside(out)?;
+    let tmp = super::Output::create(out)?;
     let mut child = Command::new(ffmpeg)
         .args(["-hide_banner", "-loglevel", "error", "-y"])
         .args(["-f", "image2pipe", "-c:v", "png", "-framerate"])
@@ -68,7 +68,7 @@ pub fn write_mp4(
             "yuv420p",
         ])
         .args(["-movflags", "+faststart", "-f", "mp4"])
-        .arg(tmp.path())
+        .arg(tmp.writing_path())
         .stdin(Stdio::piped())
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
@@ -107,7 +107,7 @@ pub fn write_mp4(
             messages.trim()
         )));
     }
-    tmp.persist(out)
+    tmp.finish()
         .map_err(|e| Error::io("cannot move the finished file to", out, e))?;
     Ok(())
 }

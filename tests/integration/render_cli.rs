@@ -313,6 +313,50 @@ fn export_writes_round_trip_numbers_equal_to_the_simulation() {
     assert!(!sandbox.path("output").exists(), "export draws nothing");
 }
 
+/// `--out` may name a named pipe or a device such as `/dev/null`: the bytes go into it,
+/// and it stays what it was. (Renaming the finished file over it, as for a regular
+/// file, once turned a machine's `/dev/null` into a regular file.) A pipe in the
+/// sandbox stands for the device, so that a regression fails here and harms nothing.
+#[cfg(unix)]
+#[test]
+fn export_into_a_pipe_writes_through_it_and_leaves_it_a_pipe() {
+    use std::os::unix::fs::FileTypeExt;
+    let sandbox = Sandbox::new();
+    let pipe = sandbox.path("pipe");
+    let made = std::process::Command::new("mkfifo").arg(&pipe).status();
+    if !made.is_ok_and(|s| s.success()) {
+        eprintln!("skipped: `mkfifo` is not available");
+        return;
+    }
+    let reader = {
+        let pipe = pipe.clone();
+        std::thread::spawn(move || std::fs::read(pipe).expect("read the pipe"))
+    };
+    let out = sandbox.run(&["export", &example("spring.toml"), "--out", "pipe"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let kind = pipe.symlink_metadata().expect("the pipe").file_type();
+    assert!(kind.is_fifo(), "the pipe was replaced by a regular file");
+    let through_pipe = reader.join().expect("the reader");
+    let out = sandbox.run(&["export", &example("spring.toml"), "--out", "t.csv"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let to_file = std::fs::read(sandbox.path("t.csv")).expect("csv");
+    assert!(to_file.len() > 1000, "{} bytes", to_file.len());
+    assert_eq!(through_pipe, to_file, "the same rows through the pipe");
+}
+
+#[test]
+fn export_to_a_folder_is_refused_before_the_simulation() {
+    let sandbox = Sandbox::new();
+    std::fs::create_dir(sandbox.path("rows")).expect("a folder");
+    let out = sandbox.run(&["export", &example("spring.toml"), "--out", "rows"]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("rows is a folder"),
+        "{}",
+        stderr(&out)
+    );
+}
+
 #[test]
 fn a_scene_too_stiff_for_dopri5_stops_with_a_message_instead_of_running_forever() {
     // k/m = 1e12: dopri5's step must stay under 3.3e-12 to be stable, so one frame of
