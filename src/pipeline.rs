@@ -196,6 +196,12 @@ fn render_full(
         )));
     }
     let dir = &options.out_dir;
+    if dir.exists() && !dir.is_dir() {
+        return Err(Error::Usage(format!(
+            "--out {} is not a folder; frames need a folder of their own\nhint: name a folder, such as output/NAME",
+            dir.display()
+        )));
+    }
     std::fs::create_dir_all(dir).map_err(|e| Error::io("cannot create", dir, e))?;
     if options.frames.is_none() {
         // Frames of an earlier, longer run of this scene must not stay mixed in.

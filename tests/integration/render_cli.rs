@@ -358,6 +358,23 @@ fn export_to_a_folder_is_refused_before_the_simulation() {
 }
 
 #[test]
+fn render_into_a_file_is_refused_with_what_to_do() {
+    let sandbox = Sandbox::new();
+    sandbox.write("frames", "not a folder");
+    let out = sandbox.run(&["render", &example("spring.toml"), "--out", "frames"]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("--out frames is not a folder"),
+        "{}",
+        stderr(&out)
+    );
+    assert_eq!(
+        std::fs::read_to_string(sandbox.path("frames")).expect("kept"),
+        "not a folder"
+    );
+}
+
+#[test]
 fn a_scene_too_stiff_for_dopri5_stops_with_a_message_instead_of_running_forever() {
     // k/m = 1e12: dopri5's step must stay under 3.3e-12 to be stable, so one frame of
     // 0.04 s would take about 1e10 steps; the budget of 1e6 steps stops it.
