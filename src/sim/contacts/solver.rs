@@ -17,8 +17,8 @@
 //! 4. *store impulses* for the next step's warm start;
 //! 5. *relax positions*: a few passes in which each point deeper than the slop is
 //!    pushed apart by β = 0.2 of its excess, along the normal, shared by inverse mass
-//!    and inertia (non-linear Gauss–Seidel on positions). Positions change, velocities
-//!    do not, so no energy is added.
+//!    (non-linear Gauss–Seidel on positions). The bodies are moved, not turned: see
+//!    [`relaxation`]. Positions change, velocities do not, so no energy is added.
 //!
 //! There is no restitution here: a contact that approaches faster than the resting
 //! speed is a collision, answered before the solver by the exact impulse of
@@ -288,9 +288,31 @@ fn solve_block(m: &mut Manifold, inv: (Inverse, Inverse), v: &mut Velocities<'_>
     Some(d1.abs().max(d2.abs()))
 }
 
+/// Returns 1/K for a push that moves two bodies along a line without turning them:
+/// K = 1/M_A + 1/M_B.
+pub fn linear_mass(inv: (Inverse, Inverse)) -> f64 {
+    let k = inv.0.mass + inv.1.mass;
+    if k > 0.0 {
+        1.0 / k
+    } else {
+        0.0
+    }
+}
+
 /// Returns the position change of one relaxation pass for a point whose gap is `gap`
 /// (negative: overlapping), with slop `slop`, at most `max` at once:
-/// C = clamp(β·(gap + slop), -max, 0), and the impulse -C/K along the normal.
+/// C = clamp(β·(gap + slop), -max, 0), and the push -C/K along the normal, with
+/// K = 1/M_A + 1/M_B ([`linear_mass`]).
+///
+/// The push translates the bodies and does not turn them. Turning a box about an
+/// overlapping corner also slides its centre sideways, a motion made on positions that
+/// friction, which acts on velocities, never sees; in a stack those small slides add
+/// up to creep. Measured on the 20-row pyramid, awake for 60 s at dt = 1/240 s, the
+/// largest displacement of a box with the push turning bodies, then without, at 8,
+/// 12, 16, 25 and 50 sweeps: 1.21 m, 2.6, 20.9, 12.9 and 5.4 mm, then 146, 2.6, 5.1,
+/// 2.4 and 3.6 mm; and 1,000 discs poured at 16 sweeps overlapped past the limit
+/// (exit 3) with the turning push. The velocity sweeps still turn bodies into their
+/// contacts.
 pub fn relaxation(gap: f64, slop: f64, max: f64, mass: f64) -> f64 {
     let c = (BAUMGARTE * (gap + slop)).max(-max).min(0.0);
     -c * mass

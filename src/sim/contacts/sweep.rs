@@ -15,7 +15,6 @@ use super::sleep::{hold_all, hold_or_wake, settle, Islands, ASLEEP};
 use super::solver::{self, effective_mass, Manifold, Point, Velocities};
 use super::toi::{time_of_impact, Path};
 use super::{inverse, ContactEvent, Contacts, Overlap, IMPACTS_PER_BODY};
-use crate::sim::rigid::perp_dot;
 use crate::sim::{State, System};
 
 /// Sweeps over the contacts that collide at the step's end before the step leaves the
@@ -516,21 +515,19 @@ impl Contacts {
                         };
                         let pair = (s.inv[iu], s.inv[ju]);
                         let max = 0.1 * colliders[iu].size.min(colliders[ju].size);
+                        // The push moves the bodies along the normal and does not turn
+                        // them (see `solver::relaxation`), so its mass is the linear
+                        // one, 1/K = 1/(1/M_A + 1/M_B).
+                        let mass = solver::linear_mass(pair);
                         for k in 0..ct.count {
-                            let (ra, rb) = (ct.points[k] - end.pos[bi], ct.points[k] - end.pos[bj]);
-                            let mass = effective_mass(pair, ra, rb, ct.normal);
                             let push = solver::relaxation(ct.gaps[k], sl, max, mass);
                             if push == 0.0 {
                                 continue;
                             }
                             let p = push * ct.normal;
-                            // r_A += p/M_A, θ_A += (r_A⊥·p)/I_A; the opposite on B.
+                            // r_A += p/M_A; r_B -= p/M_B.
                             end.pos[bi] += pair.0.mass * p;
                             end.pos[bj] -= pair.1.mass * p;
-                            if spins {
-                                end.angle[bi] += pair.0.inertia * perp_dot(ra, p);
-                                end.angle[bj] -= pair.1.inertia * perp_dot(rb, p);
-                            }
                         }
                     }
                 }
