@@ -44,6 +44,7 @@
 mod broad_phase;
 pub mod collider;
 pub mod narrow_phase;
+mod relax;
 pub mod response;
 mod sleep;
 pub mod solver;

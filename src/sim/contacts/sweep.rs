@@ -10,6 +10,7 @@ use parry2d_f64::bounding_volume::Aabb;
 
 use super::broad_phase::{swept_box, BroadPhase};
 use super::narrow_phase::{contact, Contact, Pose};
+use super::relax::Relax;
 use super::response::{closes, collide, normal_velocity, strike_point, Inverse, Side};
 use super::sleep::{hold_all, hold_or_wake, settle, Islands, ASLEEP};
 use super::solver::{self, effective_mass, Manifold, Point, Velocities};
@@ -46,6 +47,7 @@ pub(super) struct Scratch {
     query: Vec<u32>,
     touching: Vec<(u32, u32, Contact)>,
     manifolds: Vec<Manifold>,
+    relax: Relax,
     islands: Islands,
 }
 
@@ -501,36 +503,9 @@ impl Contacts {
                 let mut v = Velocities { vel, omega, spins };
                 solver::solve(&mut s.manifolds, &s.inv, &mut v, resting.iterations, warm);
                 changed = true;
-                // 5. Relax positions: push apart what overlaps by more than the slop.
-                for _ in 0..solver::position_passes() {
-                    for m in s.manifolds.iter() {
-                        let (iu, ju) = (m.i as usize, m.j as usize);
-                        let (bi, bj) = (m.bi, m.bj);
-                        let pi = Pose::new(end.pos[bi], end.angle[bi]);
-                        let pj = Pose::new(end.pos[bj], end.angle[bj]);
-                        let sl = slop(iu, ju);
-                        let Some(ct) = contact(&colliders[iu], &pi, &colliders[ju], &pj, sl, sl)
-                        else {
-                            continue;
-                        };
-                        let pair = (s.inv[iu], s.inv[ju]);
-                        let max = 0.1 * colliders[iu].size.min(colliders[ju].size);
-                        // The push moves the bodies along the normal and does not turn
-                        // them (see `solver::relaxation`), so its mass is the linear
-                        // one, 1/K = 1/(1/M_A + 1/M_B).
-                        let mass = solver::linear_mass(pair);
-                        for k in 0..ct.count {
-                            let push = solver::relaxation(ct.gaps[k], sl, max, mass);
-                            if push == 0.0 {
-                                continue;
-                            }
-                            let p = push * ct.normal;
-                            // r_A += p/M_A; r_B -= p/M_B.
-                            end.pos[bi] += pair.0.mass * p;
-                            end.pos[bj] -= pair.1.mass * p;
-                        }
-                    }
-                }
+                // 5. Relax positions: push apart what overlaps by more than the slop
+                // (`relax.rs`).
+                s.relax.run(&s.manifolds, colliders, &s.inv, end, slop);
             } else {
                 warm.clear();
             }
