@@ -251,6 +251,68 @@ fn a_tower_of_ten_boxes_and_a_pyramid_of_twenty_rows_stand_for_a_minute() {
     }
 }
 
+/// A 1 m box at rest, sunk `depth` into a static floor (top at y = 0) at angle `angle`,
+/// with no gravity (a resting speed is given instead), after one step. A scene may not
+/// start overlapping, so the box is sunk into the scene's first state by hand, as a
+/// step that left it so would have.
+fn sunk_box_after_one_step(depth: f64, angle: f64) -> (physframes::sim::State, usize) {
+    let s = scene(
+        r#"
+        [simulation]
+        dt = 0.01
+        duration = 1.0
+        [render]
+        view = { min = [-2.0, -1.0], max = [2.0, 2.0] }
+        fps = 10
+        [contacts]
+        rest_speed = 0.05
+        slop = 0.001
+        [[body]]
+        name = "floor"
+        static = true
+        position = [0.0, -0.5]
+        shape = { box = { width = 4.0, height = 1.0 } }
+        [[body]]
+        name = "box"
+        mass = 1.0
+        position = [0.0, 0.6]
+        shape = { box = { width = 1.0, height = 1.0 } }
+        "#,
+    );
+    let b = index(&s, "box");
+    let mut state = s.initial_state();
+    state.pos[b].y = 0.5 - depth;
+    state.angle[b] = angle;
+    let mut sim = s.simulation_from(state, s.simulation.integrator);
+    sim.step().expect("the overlap is within the limit");
+    (sim.state().clone(), b)
+}
+
+/// The relaxation pushes a sunk box out along the normal and never turns it (turning
+/// it about a corner would also slide it sideways, past friction: `solver::relaxation`).
+/// Level, both corners are pushed by β = 0.2 of the excess over the slop found at the
+/// start of a pass, so each of the 3 passes leaves (1 - 2β) of the excess: the box
+/// ends sunk by slop + 0.6³·(depth - slop), to rounding (1e-12 m).
+#[test]
+fn relaxation_pushes_a_sunk_box_out_without_turning_it() {
+    let (depth, slop) = (0.01, 0.001);
+    let (st, b) = sunk_box_after_one_step(depth, 0.0);
+    let expected = 0.5 - (slop + 0.6f64.powi(3) * (depth - slop));
+    assert!(
+        (st.pos[b].y - expected).abs() < 1e-12,
+        "y = {}, expected {expected}",
+        st.pos[b].y
+    );
+    assert_eq!(st.pos[b].x, 0.0, "pushed straight up");
+    assert_eq!(st.angle[b], 0.0, "not turned");
+    // Tilted, one corner sunk deeper than the other: still moved, never turned.
+    let tilt = 0.004;
+    let (st, b) = sunk_box_after_one_step(depth, tilt);
+    assert_eq!(st.angle[b], tilt, "not turned");
+    assert_eq!(st.vel[b], glam::DVec2::ZERO, "positions only");
+    assert!(st.pos[b].y > 0.5 - depth, "pushed up: y = {}", st.pos[b].y);
+}
+
 /// The tower example without the ball that knocks it over: the ball rests on the
 /// floor beside it.
 fn tower_text(text: &str) -> String {
