@@ -92,16 +92,48 @@ pub struct Velocities<'a> {
 }
 
 impl Velocities<'_> {
+    /// Returns the velocities of a manifold's two bodies, to be solved in registers.
     #[inline]
-    fn get(&self, b: usize) -> (DVec2, f64) {
-        (self.vel[b], if self.spins { self.omega[b] } else { 0.0 })
+    fn load(&self, m: &Manifold) -> Local {
+        let w = |b: usize| if self.spins { self.omega[b] } else { 0.0 };
+        Local {
+            va: self.vel[m.bi],
+            wa: w(m.bi),
+            vb: self.vel[m.bj],
+            wb: w(m.bj),
+        }
     }
 
-    /// Applies the impulse p at arms (ra, rb) of the bodies (a, b): +p to a, -p to b.
+    /// Writes a manifold's two bodies' velocities back.
     #[inline]
-    fn apply(
+    fn store(&mut self, m: &Manifold, l: Local) {
+        self.vel[m.bi] = l.va;
+        self.vel[m.bj] = l.vb;
+        if self.spins {
+            self.omega[m.bi] = l.wa;
+            self.omega[m.bj] = l.wb;
+        }
+    }
+}
+
+/// The velocities of the two bodies of the manifold being solved, held in registers
+/// from its first impulse to its last rather than read back from memory after each:
+/// a body's velocity depends on every impulse before it, so each round trip through
+/// memory would lengthen the chain the sweep waits on. (The two bodies of a contact
+/// are never the same body.) With `SPINS` false the angular velocities stay 0.
+#[derive(Clone, Copy, Debug)]
+struct Local {
+    va: DVec2,
+    wa: f64,
+    vb: DVec2,
+    wb: f64,
+}
+
+impl Local {
+    /// Applies the impulse p at arms (ra, rb): +p to body a, -p to body b.
+    #[inline(always)]
+    fn apply<const SPINS: bool>(
         &mut self,
-        (a, b): (usize, usize),
         inv: (Inverse, Inverse),
         ra: DVec2,
         rb: DVec2,
@@ -109,20 +141,18 @@ impl Velocities<'_> {
     ) {
         let (ia, ib) = inv;
         // v_A += p/M_A, ω_A += (r_A⊥·p)/I_A; the opposite on B.
-        self.vel[a] += ia.mass * p;
-        self.vel[b] -= ib.mass * p;
-        if self.spins {
-            self.omega[a] += ia.inertia * perp_dot(ra, p);
-            self.omega[b] -= ib.inertia * perp_dot(rb, p);
+        self.va += ia.mass * p;
+        self.vb -= ib.mass * p;
+        if SPINS {
+            self.wa += ia.inertia * perp_dot(ra, p);
+            self.wb -= ib.inertia * perp_dot(rb, p);
         }
     }
 
     /// Returns the relative velocity v_AP - v_BP at the arms (ra, rb).
-    #[inline]
-    fn relative(&self, m: &Manifold, ra: DVec2, rb: DVec2) -> DVec2 {
-        let (va, wa) = self.get(m.bi);
-        let (vb, wb) = self.get(m.bj);
-        point_velocity(va, wa, ra) - point_velocity(vb, wb, rb)
+    #[inline(always)]
+    fn relative(&self, ra: DVec2, rb: DVec2) -> DVec2 {
+        point_velocity(self.va, self.wa, ra) - point_velocity(self.vb, self.wb, rb)
     }
 }
 
@@ -153,27 +183,29 @@ pub fn solve(
     for m in manifolds.iter_mut() {
         let pair = (inv[m.i as usize], inv[m.j as usize]);
         let t = m.normal.perp();
+        let mut l = v.load(m);
         for k in 0..m.count {
             if let Some(&(pn, pt)) = warm.get(&(m.i, m.j, m.points[k].id)) {
                 m.points[k].pn = pn;
                 m.points[k].pt = pt;
                 let p = m.points[k];
-                v.apply((m.bi, m.bj), pair, p.ra, p.rb, pn * m.normal + pt * t);
+                let impulse = pn * m.normal + pt * t;
+                if v.spins {
+                    l.apply::<true>(pair, p.ra, p.rb, impulse);
+                } else {
+                    l.apply::<false>(pair, p.ra, p.rb, impulse);
+                }
             }
         }
+        v.store(m, l);
     }
     // 3. Sweeps.
     for _ in 0..iterations {
-        let mut change: f64 = 0.0;
-        let mut scale: f64 = 0.0;
-        for m in manifolds.iter_mut() {
-            let pair = (inv[m.i as usize], inv[m.j as usize]);
-            change = change.max(solve_friction(m, pair, v));
-            change = change.max(solve_normal(m, pair, v));
-            for p in &m.points[..m.count] {
-                scale = scale.max(p.pn);
-            }
-        }
+        let (change, scale) = if v.spins {
+            sweep::<true>(manifolds, inv, v)
+        } else {
+            sweep::<false>(manifolds, inv, v)
+        };
         // Converged: no impulse changed by more than CONVERGED of the largest.
         if change <= CONVERGED * scale {
             break;
@@ -188,9 +220,36 @@ pub fn solve(
     }
 }
 
+/// One sweep over every manifold: friction, then the normal impulses. Returns the
+/// largest change of an accumulated impulse and the largest normal impulse.
+fn sweep<const SPINS: bool>(
+    manifolds: &mut [Manifold],
+    inv: &[Inverse],
+    v: &mut Velocities<'_>,
+) -> (f64, f64) {
+    let mut change: f64 = 0.0;
+    let mut scale: f64 = 0.0;
+    for m in manifolds.iter_mut() {
+        debug_assert_ne!(m.bi, m.bj, "a contact is between two bodies");
+        let pair = (inv[m.i as usize], inv[m.j as usize]);
+        let mut l = v.load(m);
+        change = change.max(solve_friction::<SPINS>(m, pair, &mut l));
+        change = change.max(solve_normal::<SPINS>(m, pair, &mut l));
+        v.store(m, l);
+        for p in &m.points[..m.count] {
+            scale = scale.max(p.pn);
+        }
+    }
+    (change, scale)
+}
+
 /// Friction at each point: λ_t = -v_t/K_t, the accumulated P_t clamped to ±μ·P_n.
 /// Returns the largest change of an accumulated impulse.
-fn solve_friction(m: &mut Manifold, inv: (Inverse, Inverse), v: &mut Velocities<'_>) -> f64 {
+fn solve_friction<const SPINS: bool>(
+    m: &mut Manifold,
+    inv: (Inverse, Inverse),
+    v: &mut Local,
+) -> f64 {
     let mut change: f64 = 0.0;
     if m.friction == 0.0 {
         return change;
@@ -198,7 +257,7 @@ fn solve_friction(m: &mut Manifold, inv: (Inverse, Inverse), v: &mut Velocities<
     let t = m.normal.perp();
     for k in 0..m.count {
         let p = m.points[k];
-        let vt = v.relative(m, p.ra, p.rb).dot(t);
+        let vt = v.relative(p.ra, p.rb).dot(t);
         let lambda = -p.tangent_mass * vt;
         // (max and min rather than clamp: a state so large that its impulses
         // overflow must not panic, only blow up, which the step's check reports.)
@@ -207,7 +266,7 @@ fn solve_friction(m: &mut Manifold, inv: (Inverse, Inverse), v: &mut Velocities<
         let applied = total - p.pt;
         m.points[k].pt = total;
         change = change.max(applied.abs());
-        v.apply((m.bi, m.bj), inv, p.ra, p.rb, applied * t);
+        v.apply::<SPINS>(inv, p.ra, p.rb, applied * t);
     }
     change
 }
@@ -215,23 +274,27 @@ fn solve_friction(m: &mut Manifold, inv: (Inverse, Inverse), v: &mut Velocities<
 /// The normal impulses: one point as λ_n = -(v_n - bias)/K_n with P_n ≥ 0; two points
 /// together, by trying which of them push (Box2D's block solver). Returns the largest
 /// change of an accumulated impulse.
-fn solve_normal(m: &mut Manifold, inv: (Inverse, Inverse), v: &mut Velocities<'_>) -> f64 {
+fn solve_normal<const SPINS: bool>(
+    m: &mut Manifold,
+    inv: (Inverse, Inverse),
+    v: &mut Local,
+) -> f64 {
     let n = m.normal;
     if m.count == 2 {
-        if let Some(change) = solve_block(m, inv, v) {
+        if let Some(change) = solve_block::<SPINS>(m, inv, v) {
             return change;
         }
     }
     let mut change: f64 = 0.0;
     for k in 0..m.count {
         let p = m.points[k];
-        let vn = v.relative(m, p.ra, p.rb).dot(n);
+        let vn = v.relative(p.ra, p.rb).dot(n);
         let lambda = -p.normal_mass * (vn - p.bias);
         let total = (p.pn + lambda).max(0.0);
         let applied = total - p.pn;
         m.points[k].pn = total;
         change = change.max(applied.abs());
-        v.apply((m.bi, m.bj), inv, p.ra, p.rb, applied * n);
+        v.apply::<SPINS>(inv, p.ra, p.rb, applied * n);
     }
     change
 }
@@ -240,7 +303,11 @@ fn solve_normal(m: &mut Manifold, inv: (Inverse, Inverse), v: &mut Velocities<'_
 /// b_k = v_nk - bias_k - (K·P_old)_k, trying both pushing, then each alone, then
 /// neither. Returns the largest change, or `None` when K is too badly conditioned to invert (the points nearly
 /// coincide), for the points to be solved one by one.
-fn solve_block(m: &mut Manifold, inv: (Inverse, Inverse), v: &mut Velocities<'_>) -> Option<f64> {
+fn solve_block<const SPINS: bool>(
+    m: &mut Manifold,
+    inv: (Inverse, Inverse),
+    v: &mut Local,
+) -> Option<f64> {
     let n = m.normal;
     let (ia, ib) = inv;
     let (p1, p2) = (m.points[0], m.points[1]);
@@ -255,8 +322,8 @@ fn solve_block(m: &mut Manifold, inv: (Inverse, Inverse), v: &mut Velocities<'_>
         return None;
     }
     let (a1, a2) = (p1.pn, p2.pn);
-    let vn1 = v.relative(m, p1.ra, p1.rb).dot(n);
-    let vn2 = v.relative(m, p2.ra, p2.rb).dot(n);
+    let vn1 = v.relative(p1.ra, p1.rb).dot(n);
+    let vn2 = v.relative(p2.ra, p2.rb).dot(n);
     // b = v_n - bias - K·a.
     let b1 = vn1 - p1.bias - (k11 * a1 + k12 * a2);
     let b2 = vn2 - p2.bias - (k12 * a1 + k22 * a2);
@@ -283,8 +350,8 @@ fn solve_block(m: &mut Manifold, inv: (Inverse, Inverse), v: &mut Velocities<'_>
     let (d1, d2) = (x1 - a1, x2 - a2);
     m.points[0].pn = x1;
     m.points[1].pn = x2;
-    v.apply((m.bi, m.bj), inv, p1.ra, p1.rb, d1 * n);
-    v.apply((m.bi, m.bj), inv, p2.ra, p2.rb, d2 * n);
+    v.apply::<SPINS>(inv, p1.ra, p1.rb, d1 * n);
+    v.apply::<SPINS>(inv, p2.ra, p2.rb, d2 * n);
     Some(d1.abs().max(d2.abs()))
 }
 
