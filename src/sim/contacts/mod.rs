@@ -49,6 +49,7 @@ mod sleep;
 pub mod solver;
 mod sweep;
 pub mod toi;
+mod warm;
 
 use glam::DVec2;
 
