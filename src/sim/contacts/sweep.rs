@@ -9,7 +9,7 @@ use glam::DVec2;
 use parry2d_f64::bounding_volume::Aabb;
 
 use super::broad_phase::{swept_box, BroadPhase};
-use super::narrow_phase::{contact, Contact, Pose};
+use super::narrow_phase::{contact, Contact, Pose, Rotations};
 use super::response::{closes, collide, normal_velocity, strike_point, Inverse, Side};
 use super::sleep::{hold_all, hold_or_wake, settle, Islands, ASLEEP};
 use super::solver::{self, effective_mass, Manifold, Point, Velocities};
@@ -48,6 +48,7 @@ pub(super) struct Scratch {
     touching: Vec<(u32, u32, Contact)>,
     manifolds: Vec<Manifold>,
     islands: Islands,
+    rotations: Rotations,
 }
 
 /// An impact of colliders i < j at step fraction λ, valid while neither has been
@@ -344,8 +345,8 @@ impl Contacts {
         for &(i, j) in &s.pairs {
             let (iu, ju) = (i as usize, j as usize);
             let (bi, bj) = (colliders[iu].body, colliders[ju].body);
-            let pi = Pose::new(end.pos[bi], end.angle[bi]);
-            let pj = Pose::new(end.pos[bj], end.angle[bj]);
+            let pi = s.rotations.pose(iu, end.pos[bi], end.angle[bi]);
+            let pj = s.rotations.pose(ju, end.pos[bj], end.angle[bj]);
             let (t, sl) = (tol(iu, ju), slop(iu, ju));
             // With resting contact, points up to the slop apart are the solver's
             // (speculative: they may close that gap, no more); without, only touching
@@ -507,8 +508,8 @@ impl Contacts {
                     for m in s.manifolds.iter() {
                         let (iu, ju) = (m.i as usize, m.j as usize);
                         let (bi, bj) = (m.bi, m.bj);
-                        let pi = Pose::new(end.pos[bi], end.angle[bi]);
-                        let pj = Pose::new(end.pos[bj], end.angle[bj]);
+                        let pi = s.rotations.pose(iu, end.pos[bi], end.angle[bi]);
+                        let pj = s.rotations.pose(ju, end.pos[bj], end.angle[bj]);
                         let sl = slop(iu, ju);
                         let Some(ct) = contact(&colliders[iu], &pi, &colliders[ju], &pj, sl, sl)
                         else {
