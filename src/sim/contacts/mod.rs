@@ -44,6 +44,7 @@
 mod broad_phase;
 pub mod collider;
 pub mod narrow_phase;
+mod overlaps;
 pub mod response;
 mod sleep;
 pub mod solver;
@@ -327,7 +328,7 @@ impl Contacts {
         movable: impl Fn(usize) -> bool,
         limit: usize,
     ) -> Vec<Overlap> {
-        sweep::overlaps(self, pos, angle, movable, limit)
+        overlaps::overlaps(self, pos, angle, movable, limit)
     }
 
     /// The margin every swept box is widened by: the body's own tolerance, so that two
