@@ -49,6 +49,10 @@ pub(super) struct Scratch {
     manifolds: Vec<Manifold>,
     islands: Islands,
     rotations: Rotations,
+    /// How many times each collider was pushed in this step's relaxation, and each
+    /// manifold's last contact with the counts of its two colliders then.
+    pushes: Vec<u32>,
+    relaxed: Vec<Option<((u32, u32), Option<Contact>)>>,
 }
 
 /// An impact of colliders i < j at step fraction λ, valid while neither has been
@@ -504,15 +508,28 @@ impl Contacts {
                 solver::solve(&mut s.manifolds, &s.inv, &mut v, resting.iterations, warm);
                 changed = true;
                 // 5. Relax positions: push apart what overlaps by more than the slop.
+                s.pushes.clear();
+                s.pushes.resize(n, 0);
+                s.relaxed.clear();
+                s.relaxed.resize(s.manifolds.len(), None);
                 for _ in 0..solver::position_passes() {
-                    for m in s.manifolds.iter() {
+                    for (m, relaxed) in s.manifolds.iter().zip(&mut s.relaxed) {
                         let (iu, ju) = (m.i as usize, m.j as usize);
                         let (bi, bj) = (m.bi, m.bj);
-                        let pi = s.rotations.pose(iu, end.pos[bi], end.angle[bi]);
-                        let pj = s.rotations.pose(ju, end.pos[bj], end.angle[bj]);
                         let sl = slop(iu, ju);
-                        let Some(ct) = contact(&colliders[iu], &pi, &colliders[ju], &pj, sl, sl)
-                        else {
+                        // Neither body pushed since the last pass: the same contact.
+                        let pushes = (s.pushes[iu], s.pushes[ju]);
+                        let ct = match *relaxed {
+                            Some((then, ct)) if then == pushes => ct,
+                            _ => {
+                                let pi = s.rotations.pose(iu, end.pos[bi], end.angle[bi]);
+                                let pj = s.rotations.pose(ju, end.pos[bj], end.angle[bj]);
+                                let ct = contact(&colliders[iu], &pi, &colliders[ju], &pj, sl, sl);
+                                *relaxed = Some((pushes, ct));
+                                ct
+                            }
+                        };
+                        let Some(ct) = ct else {
                             continue;
                         };
                         let pair = (s.inv[iu], s.inv[ju]);
@@ -532,6 +549,8 @@ impl Contacts {
                                 end.angle[bi] += pair.0.inertia * perp_dot(ra, p);
                                 end.angle[bj] -= pair.1.inertia * perp_dot(rb, p);
                             }
+                            s.pushes[iu] += 1;
+                            s.pushes[ju] += 1;
                         }
                     }
                 }
