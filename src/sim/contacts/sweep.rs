@@ -50,10 +50,14 @@ pub(super) struct Scratch {
     islands: Islands,
     rotations: Rotations,
     /// How many times each collider was pushed in this step's relaxation, and each
-    /// manifold's last contact with the counts of its two colliders then.
+    /// manifold's last contact there.
     pushes: Vec<u32>,
-    relaxed: Vec<Option<((u32, u32), Option<Contact>)>>,
+    relaxed: Vec<Option<Relaxed>>,
 }
+
+/// A manifold's last contact in the relaxation (none when apart), with the push counts
+/// of its two colliders when it was found.
+type Relaxed = ((u32, u32), Option<Contact>);
 
 /// An impact of colliders i < j at step fraction λ, valid while neither has been
 /// struck since it was found (their versions then are `vi` and `vj`). Ordered by λ,
