@@ -44,12 +44,14 @@
 mod broad_phase;
 pub mod collider;
 pub mod narrow_phase;
+mod overlaps;
 mod relax;
 pub mod response;
 mod sleep;
 pub mod solver;
 mod sweep;
 pub mod toi;
+mod warm;
 
 use glam::DVec2;
 
@@ -331,7 +333,7 @@ impl Contacts {
         movable: impl Fn(usize) -> bool,
         limit: usize,
     ) -> Vec<Overlap> {
-        sweep::overlaps(self, pos, angle, movable, limit)
+        overlaps::overlaps(self, pos, angle, movable, limit)
     }
 
     /// The margin every swept box is widened by: the body's own tolerance, so that two

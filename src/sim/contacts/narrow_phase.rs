@@ -49,6 +49,36 @@ impl Pose {
     }
 }
 
+/// Each collider's latest rotation: the angle it was last posed at and that angle's
+/// (sin θ, cos θ), so that posing it again at the same angle (a body that did not turn
+/// since, met again by another pair or in another pass) costs no sine and cosine. The
+/// values are `f64::sin_cos` of the very same angle, so the poses are the same to the
+/// bit as [`Pose::new`]'s.
+#[derive(Clone, Debug, Default)]
+pub struct Rotations {
+    latest: Vec<(f64, (f64, f64))>,
+}
+
+impl Rotations {
+    /// Returns collider k's pose with its centre of mass at r, turned by θ.
+    #[inline]
+    pub fn pose(&mut self, k: usize, r: DVec2, angle: f64) -> Pose {
+        if k >= self.latest.len() {
+            // Every entry holds an angle and its own sine and cosine: 0 to start with.
+            self.latest.resize(k + 1, (0.0, 0f64.sin_cos()));
+        }
+        let latest = &mut self.latest[k];
+        if latest.0.to_bits() != angle.to_bits() {
+            *latest = (angle, angle.sin_cos());
+        }
+        Pose {
+            r,
+            angle,
+            sin_cos: latest.1,
+        }
+    }
+}
+
 /// Where two bodies touch or come closest.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Contact {

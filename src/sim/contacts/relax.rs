@@ -10,7 +10,7 @@
 //! no push again: it is skipped. In a stack at rest almost nothing overlaps past the
 //! slop, so the second and later passes skip nearly every contact.
 
-use super::narrow_phase::{contact, Pose};
+use super::narrow_phase::{contact, Rotations};
 use super::response::Inverse;
 use super::solver::{self, Manifold};
 use super::Collider;
@@ -36,6 +36,7 @@ impl Relax {
         colliders: &[Collider],
         inv: &[Inverse],
         end: &mut State,
+        rotations: &mut Rotations,
         slop: impl Fn(usize, usize) -> f64,
     ) {
         self.moved_at.clear();
@@ -53,60 +54,55 @@ impl Relax {
                     self.quiet_at[k] = visit;
                     continue;
                 }
-                let pushed = self.pass_one(
-                    m,
-                    colliders,
-                    inv,
-                    end,
-                    slop(m.i as usize, m.j as usize),
-                    visit,
-                );
+                let sl = slop(m.i as usize, m.j as usize);
+                let pushed = push_apart(m, colliders, inv, end, rotations, sl);
                 self.quiet_at[k] = if pushed { 0 } else { visit };
+                if pushed {
+                    // A body of finite mass moved (a static one, 1/M = 0, did not).
+                    for (b, c) in [(bi, m.i), (bj, m.j)] {
+                        if inv[c as usize].mass != 0.0 {
+                            self.moved_at[b] = visit;
+                        }
+                    }
+                }
             }
         }
     }
+}
 
-    /// Finds one manifold's contact at the bodies' present poses and pushes apart its
-    /// points deeper than the slop. Returns whether any point was pushed.
-    fn pass_one(
-        &mut self,
-        m: &Manifold,
-        colliders: &[Collider],
-        inv: &[Inverse],
-        end: &mut State,
-        sl: f64,
-        visit: u64,
-    ) -> bool {
-        let (iu, ju) = (m.i as usize, m.j as usize);
-        let (bi, bj) = (m.bi, m.bj);
-        let pi = Pose::new(end.pos[bi], end.angle[bi]);
-        let pj = Pose::new(end.pos[bj], end.angle[bj]);
-        let Some(ct) = contact(&colliders[iu], &pi, &colliders[ju], &pj, sl, sl) else {
-            return false;
-        };
-        let pair = (inv[iu], inv[ju]);
-        let max = 0.1 * colliders[iu].size.min(colliders[ju].size);
-        // The push moves the bodies along the normal and does not turn them, so its
-        // mass is the linear one, 1/K = 1/(1/M_A + 1/M_B).
-        let mass = solver::linear_mass(pair);
-        let mut pushed = false;
-        for k in 0..ct.count {
-            let push = solver::relaxation(ct.gaps[k], sl, max, mass);
-            if push == 0.0 {
-                continue;
-            }
-            pushed = true;
-            let p = push * ct.normal;
-            // r_A += p/M_A; r_B -= p/M_B.
-            end.pos[bi] += pair.0.mass * p;
-            end.pos[bj] -= pair.1.mass * p;
-            if pair.0.mass != 0.0 {
-                self.moved_at[bi] = visit;
-            }
-            if pair.1.mass != 0.0 {
-                self.moved_at[bj] = visit;
-            }
+/// Finds one manifold's contact at the bodies' present poses and pushes apart its
+/// points deeper than the slop. Returns whether any point was pushed.
+fn push_apart(
+    m: &Manifold,
+    colliders: &[Collider],
+    inv: &[Inverse],
+    end: &mut State,
+    rotations: &mut Rotations,
+    sl: f64,
+) -> bool {
+    let (iu, ju) = (m.i as usize, m.j as usize);
+    let (bi, bj) = (m.bi, m.bj);
+    let pi = rotations.pose(iu, end.pos[bi], end.angle[bi]);
+    let pj = rotations.pose(ju, end.pos[bj], end.angle[bj]);
+    let Some(ct) = contact(&colliders[iu], &pi, &colliders[ju], &pj, sl, sl) else {
+        return false;
+    };
+    let pair = (inv[iu], inv[ju]);
+    let max = 0.1 * colliders[iu].size.min(colliders[ju].size);
+    // The push moves the bodies along the normal and does not turn them, so its
+    // mass is the linear one, 1/K = 1/(1/M_A + 1/M_B).
+    let mass = solver::linear_mass(pair);
+    let mut pushed = false;
+    for k in 0..ct.count {
+        let push = solver::relaxation(ct.gaps[k], sl, max, mass);
+        if push == 0.0 {
+            continue;
         }
-        pushed
+        pushed = true;
+        let p = push * ct.normal;
+        // r_A += p/M_A; r_B -= p/M_B.
+        end.pos[bi] += pair.0.mass * p;
+        end.pos[bj] -= pair.1.mass * p;
     }
+    pushed
 }

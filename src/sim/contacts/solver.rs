@@ -24,8 +24,6 @@
 //! speed is a collision, answered before the solver by the exact impulse of
 //! `response.rs`.
 
-use std::collections::BTreeMap;
-
 use glam::DVec2;
 
 use super::response::Inverse;
@@ -44,10 +42,7 @@ const POSITION_PASSES: usize = 3;
 /// sweeps.
 const CONVERGED: f64 = 1e-9;
 
-/// The impulses a contact point needed, kept for the next step: the normal and the
-/// tangential accumulated impulses, keyed by the two colliders' indices and the point's
-/// features.
-pub type WarmStart = BTreeMap<(u32, u32, u64), (f64, f64)>;
+pub use super::warm::WarmStart;
 
 /// One contact point being solved.
 #[derive(Clone, Copy, Debug, Default)]
@@ -180,12 +175,13 @@ pub fn solve(
     warm: &mut WarmStart,
 ) {
     // 2. Warm start.
+    let mut kept = warm.reader();
     for m in manifolds.iter_mut() {
         let pair = (inv[m.i as usize], inv[m.j as usize]);
         let t = m.normal.perp();
         let mut l = v.load(m);
         for k in 0..m.count {
-            if let Some(&(pn, pt)) = warm.get(&(m.i, m.j, m.points[k].id)) {
+            if let Some((pn, pt)) = kept.get(&(m.i, m.j, m.points[k].id)) {
                 m.points[k].pn = pn;
                 m.points[k].pt = pt;
                 let p = m.points[k];

@@ -9,7 +9,7 @@ use glam::DVec2;
 use parry2d_f64::bounding_volume::Aabb;
 
 use super::broad_phase::{swept_box, BroadPhase};
-use super::narrow_phase::{contact, Contact, Pose};
+use super::narrow_phase::{contact, Contact, Rotations};
 use super::relax::Relax;
 use super::response::{closes, collide, normal_velocity, strike_point, Inverse, Side};
 use super::sleep::{hold_all, hold_or_wake, settle, Islands, ASLEEP};
@@ -43,12 +43,13 @@ pub(super) struct Scratch {
     pairs: Vec<(u32, u32)>,
     found: Vec<(u32, u32)>,
     heap: BinaryHeap<Reverse<Event>>,
-    broad: BroadPhase,
+    pub(super) broad: BroadPhase,
     query: Vec<u32>,
     touching: Vec<(u32, u32, Contact)>,
     manifolds: Vec<Manifold>,
     relax: Relax,
     islands: Islands,
+    rotations: Rotations,
 }
 
 /// An impact of colliders i < j at step fraction λ, valid while neither has been
@@ -345,8 +346,8 @@ impl Contacts {
         for &(i, j) in &s.pairs {
             let (iu, ju) = (i as usize, j as usize);
             let (bi, bj) = (colliders[iu].body, colliders[ju].body);
-            let pi = Pose::new(end.pos[bi], end.angle[bi]);
-            let pj = Pose::new(end.pos[bj], end.angle[bj]);
+            let pi = s.rotations.pose(iu, end.pos[bi], end.angle[bi]);
+            let pj = s.rotations.pose(ju, end.pos[bj], end.angle[bj]);
             let (t, sl) = (tol(iu, ju), slop(iu, ju));
             // With resting contact, points up to the slop apart are the solver's
             // (speculative: they may close that gap, no more); without, only touching
@@ -505,7 +506,8 @@ impl Contacts {
                 changed = true;
                 // 5. Relax positions: push apart what overlaps by more than the slop
                 // (`relax.rs`).
-                s.relax.run(&s.manifolds, colliders, &s.inv, end, slop);
+                s.relax
+                    .run(&s.manifolds, colliders, &s.inv, end, &mut s.rotations, slop);
             } else {
                 warm.clear();
             }
@@ -601,68 +603,4 @@ fn requery(
         }
     }
     s.query = others;
-}
-
-/// See [`Contacts::overlaps`].
-pub(super) fn overlaps(
-    c: &mut Contacts,
-    pos: &[DVec2],
-    angle: &[f64],
-    movable: impl Fn(usize) -> bool,
-    limit: usize,
-) -> Vec<Overlap> {
-    let n = c.colliders.len();
-    let mut boxes = Vec::with_capacity(n);
-    for (k, col) in c.colliders.iter().enumerate() {
-        let b = col.body;
-        let (lo, hi) = col.aabb(pos[b], angle[b].sin_cos());
-        let m = DVec2::splat(c.margin(k));
-        boxes.push(Aabb::new(
-            super::collider::to_parry(lo - m),
-            super::collider::to_parry(hi + m),
-        ));
-    }
-    // Each movable collider, in order, against the colliders whose boxes meet its own
-    // (the later movable ones, and every immovable one, which asks nothing itself:
-    // two immovable bodies may overlap). The search stops once `limit` overlaps are
-    // found, so a hostile scene of 10^5 bodies piled on one spot costs one query, not
-    // a list of 5·10^9 pairs, and 10^5 static bodies piled up cost nothing.
-    c.scratch.broad.rebuild(boxes.into_iter());
-    let mut found = Vec::new();
-    let mut others = Vec::new();
-    for i in 0..n {
-        if found.len() >= limit {
-            break;
-        }
-        if !movable(c.colliders[i].body) {
-            continue;
-        }
-        let bx = c.scratch.broad.box_of(i);
-        c.scratch.broad.query(&bx, &mut others);
-        others.retain(|&j| {
-            let j = j as usize;
-            j > i || (j < i && !movable(c.colliders[j].body))
-        });
-        others.sort_unstable();
-        for &j in &others {
-            let (i, j) = (i.min(j as usize), i.max(j as usize));
-            let (ci, cj) = (&c.colliders[i], &c.colliders[j]);
-            let t = c.tolerance(i, j);
-            let pi = Pose::new(pos[ci.body], angle[ci.body]);
-            let pj = Pose::new(pos[cj.body], angle[cj.body]);
-            if let Some(ct) = contact(ci, &pi, cj, &pj, t, t) {
-                if ct.gap < -t {
-                    found.push(Overlap {
-                        a: ci.body,
-                        b: cj.body,
-                        depth: -ct.gap,
-                        crowded: false,
-                    });
-                }
-            }
-        }
-    }
-    // In body order, as the pairs (a, b) sort.
-    found.sort_by_key(|o| (o.a, o.b));
-    found
 }
