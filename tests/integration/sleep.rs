@@ -294,3 +294,44 @@ fn a_puck_gliding_slower_than_the_sleep_speed_sleeps_unless_the_threshold_is_low
     assert!(!asleep(&sim, 1));
     assert!((sim.state().vel[1].x - 0.01).abs() < 1e-12);
 }
+
+/// Two islands at rest side by side both sleep. A disc rests on the floor, and a flat
+/// box dropped 0.1 m lands beside it a seventh of a second later: their bounding boxes
+/// meet (the box's top corner lies in the disc's box), but the box is 6.6 cm from the
+/// disc, beyond the contact reach, so each is an island of its own with its own time
+/// at rest. The disc falls asleep first; the box, at rest beside it, must not wake it
+/// (only a body that moves does), and then falls asleep too. Before, each woke the
+/// other the step it fell asleep, and neither slept for long.
+#[test]
+fn two_islands_at_rest_side_by_side_both_sleep_and_stay_asleep() {
+    let s = on_floor(
+        "",
+        r#"
+        [[body]]
+        name = "disc"
+        mass = 1.0
+        position = [1.1, 0.5]
+        shape = { circle = { radius = 0.5 } }
+        [[body]]
+        name = "box"
+        mass = 1.0
+        position = [0.55, 0.15]
+        shape = { box = { width = 0.3, height = 0.1 } }
+        "#,
+    );
+    let (disc, boxed) = (1, 2);
+    assert_eq!(s.bodies[disc].name, "disc");
+    assert_eq!(s.bodies[boxed].name, "box");
+    let mut sim = s.simulation();
+    sim.advance_to(3.0).expect("finite");
+    for _ in 0..(7 * 240) {
+        assert!(
+            asleep(&sim, disc) && asleep(&sim, boxed),
+            "at t = {}: disc asleep {}, box asleep {}",
+            sim.state().t,
+            asleep(&sim, disc),
+            asleep(&sim, boxed)
+        );
+        sim.step().expect("finite");
+    }
+}

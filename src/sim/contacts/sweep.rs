@@ -176,10 +176,10 @@ impl Contacts {
             s.boxes.push(swept_box(c, &s.paths[k], margin(k)));
         }
         s.broad.build(s.boxes.iter().copied(), &mut s.pairs);
-        // Sleeping bodies that nothing awake comes near are held where they are, as
-        // static bodies for this step; the others wake (`sleep.rs`).
+        // Sleeping bodies that nothing awake and moving comes near are held where they
+        // are, as static bodies for this step; the others wake (`sleep.rs`).
         let mut changed = false;
-        if resting.sleep.is_some() {
+        if let Some(sleep) = resting.sleep {
             changed = hold_or_wake(
                 still,
                 &s.pairs,
@@ -189,6 +189,7 @@ impl Contacts {
                 start,
                 end,
                 spins,
+                sleep.speed,
                 &mut s.islands,
             );
         }
