@@ -12,7 +12,7 @@ use crate::scene::raw::{RawContacts, RawForce, RawScene, RawSimulation};
 use crate::scene::{Body, CompareRun, ContactSettings, Diagnostic, Shape, SimulationSettings};
 use crate::sim::contacts::{
     Contacts, PolygonProblem, Resting, Sleep, DEFAULT_ITERATIONS, DEFAULT_SLEEP_FRACTION,
-    DEFAULT_SLEEP_TIME,
+    DEFAULT_SLEEP_TIME, DEFAULT_SLOP, DEFAULT_TOLERANCE,
 };
 use crate::sim::ForceSpec;
 
@@ -80,7 +80,9 @@ impl Validator {
                 self.error(
                     Diagnostic::at(n.span(), "`iterations` must be between 1 and 1000")
                         .label(format!("{} sweeps", n.get_ref()))
-                        .hint("the resting-contact solver's sweeps per step; 50 is the default"),
+                        .hint(format!(
+                            "the resting-contact solver's sweeps per step; {DEFAULT_ITERATIONS} is the default"
+                        )),
                 );
                 None
             }
@@ -116,7 +118,7 @@ impl Validator {
         keys: ContactKeys,
         names: &Names,
         bodies: &[Body],
-        gravity_step: f64,
+        (dt, gravity_step): (f64, f64),
     ) -> Option<ContactSettings> {
         let spans = BodySpans::new(raw, names);
         let mut ok = true;
@@ -225,6 +227,9 @@ impl Validator {
             return None;
         }
         let mut contacts = crate::scene::contacts_of(bodies, &settings);
+        if !self.contacts_reach_within_bodies(table, &contacts, &settings, dt, bodies) {
+            return None;
+        }
         let pos: Vec<_> = bodies.iter().map(|b| b.position).collect();
         let angle: Vec<_> = bodies.iter().map(|b| b.angle).collect();
         let overlaps = overlaps_at_start(&mut contacts, &pos, &angle, bodies);
@@ -253,6 +258,52 @@ impl Validator {
             )));
         }
         overlaps.is_empty().then_some(settings)
+    }
+
+    /// Refuses contacts that reach farther from a body than the body is wide. A body's
+    /// contacts are sought within tolerance + slop + rest_speed × dt of it; past its
+    /// own size that no longer says "touching", and with absurd values (a resting speed
+    /// of 10³⁰⁸ m/s, say) every pair of bodies in the scene is a contact, which a scene
+    /// of thousands cannot hold in memory. Returns whether every body's reach fits.
+    fn contacts_reach_within_bodies(
+        &mut self,
+        table: &Spanned<RawContacts>,
+        contacts: &Contacts,
+        settings: &ContactSettings,
+        dt: f64,
+        bodies: &[Body],
+    ) -> bool {
+        let resting = settings.resting;
+        let rest = resting.speed * dt;
+        let widest = contacts.colliders().iter().find_map(|c| {
+            let tolerance = settings.tolerance.unwrap_or(DEFAULT_TOLERANCE * c.size);
+            let slop = if resting.speed > 0.0 {
+                resting.slop.unwrap_or(DEFAULT_SLOP * c.size)
+            } else {
+                0.0
+            };
+            let reach = tolerance + slop + rest;
+            // A reach that is not a number is refused too.
+            (reach > c.size || reach.is_nan()).then_some((c.body, reach, tolerance, slop, c.size))
+        });
+        let Some((b, reach, tolerance, slop, size)) = widest else {
+            return true;
+        };
+        self.error(
+            Diagnostic::at(
+                table.span(),
+                format!(
+                    "contacts would reach {reach:.3e} m from body `{}`, more than its size, {size:.3e} m",
+                    bodies[b].name
+                ),
+            )
+            .label(format!(
+                "tolerance + slop + rest_speed × dt = {tolerance:.3e} + {slop:.3e} + {:.3e} × {dt:.3e}",
+                resting.speed
+            ))
+            .hint("lower `rest_speed`, `slop` or `tolerance` in [contacts], or the step dt"),
+        );
+        false
     }
 
     /// Refuses a force whose `bodies` names a static body, which no force moves.

@@ -134,7 +134,7 @@ impl Validator {
                     keys,
                     &names,
                     bodies,
-                    contacts::gravity_step(forces, sim.dt),
+                    (sim.dt, contacts::gravity_step(forces, sim.dt)),
                 )
                 .map(Some),
             _ => None,
