@@ -93,18 +93,4 @@ mod tests {
         assert_eq!(parse_frame_file_name("frame_00004x.png"), None);
         assert_eq!(parse_frame_file_name("manifest.json"), None);
     }
-
-    #[test]
-    fn atomic_writes_leave_no_temporary_file() {
-        let dir = tempfile::tempdir().expect("a temporary folder");
-        let path = dir.path().join("a.bin");
-        write_atomic(&path, b"first").expect("write");
-        write_atomic(&path, b"second").expect("overwrite");
-        assert_eq!(std::fs::read(&path).expect("read"), b"second");
-        let names: Vec<_> = std::fs::read_dir(dir.path())
-            .expect("list")
-            .map(|e| e.expect("entry").file_name())
-            .collect();
-        assert_eq!(names, vec![std::ffi::OsString::from("a.bin")]);
-    }
 }
