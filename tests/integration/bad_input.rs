@@ -165,17 +165,17 @@ fn an_unknown_flag_is_a_usage_error() {
     assert_eq!(out.status.code(), Some(2));
 }
 
-/// Contacts may not reach farther from a body than the body is wide: a reach of
-/// tolerance + slop + rest_speed × dt past its size stops meaning "touching"; an absurd value made
-/// every pair of a 10,000-disc scene a contact, 8 GB of them (found by fuzzing
-/// `rest_speed = 1.8e308`). Refused at the `[contacts]` table (line 10), nothing
-/// written. The puck is a disc 0.2 m wide, and dt = 0.01 s: a resting speed of 100 m/s
-/// reaches 1 m. The slop counts only where contacts rest (a resting speed above 0).
+/// Contacts may not reach (tolerance + slop + rest_speed × dt) farther from a body than
+/// ten times its width: an absurd value made every pair of a 10,000-disc scene a
+/// contact, 8 GB of them (found by fuzzing `rest_speed = 1.8e308`). Refused at the
+/// `[contacts]` table (line 10), nothing written. The puck is a disc 0.2 m wide, and
+/// dt = 0.01 s: a resting speed of 1000 m/s reaches 10 m, of 100 m/s 1 m. The slop
+/// counts only where contacts rest (a resting speed above 0).
 #[test]
 fn contacts_that_reach_past_a_body_are_refused() {
     for keys in [
         "rest_speed = 1.7976931348623157e308",
-        "rest_speed = 100.0",
+        "rest_speed = 1000.0",
         "rest_speed = 0.1\nslop = 1.0e300",
         "tolerance = 5.0",
     ] {
@@ -185,10 +185,10 @@ fn contacts_that_reach_past_a_body_are_refused() {
         );
         check(keys, &text, "contacts would reach", "10:1");
     }
-    // Within the body, the same keys are fine: 10 m/s reaches 0.1 m of the 0.2 m disc.
+    // Within ten widths the same keys are fine: 100 m/s reaches 1 m, five widths.
     let text = broken(
         "[[body]]",
-        "[contacts]\nrest_speed = 10.0\n[[body]]\nshape = { circle = { radius = 0.1 } }",
+        "[contacts]\nrest_speed = 100.0\n[[body]]\nshape = { circle = { radius = 0.1 } }",
     );
     assert!(physframes::scene::parse(std::path::Path::new("t.toml"), &text).is_ok());
 }
