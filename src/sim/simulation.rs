@@ -93,6 +93,9 @@ pub struct Simulation {
 struct Colliding {
     contacts: Contacts,
     start: State,
+    /// The steps taken at once because every body was held (see
+    /// [`Simulation::held_steps`]).
+    held: u64,
 }
 
 /// The step-size control of an adaptive run.
@@ -165,7 +168,11 @@ impl Simulation {
             self.stepper = Stepper::new(self.stepper.kind(), &self.system);
         }
         let start = self.state.clone();
-        self.contacts = Some(Box::new(Colliding { contacts, start }));
+        self.contacts = Some(Box::new(Colliding {
+            contacts,
+            start,
+            held: 0,
+        }));
         self
     }
 
@@ -268,6 +275,12 @@ impl Simulation {
         self
     }
 
+    /// Returns how many of this simulation's steps were taken at once, every body
+    /// asleep or static, without the integrator (0 without contacts).
+    pub fn held_steps(&self) -> u64 {
+        self.contacts.as_ref().map_or(0, |c| c.held)
+    }
+
     /// Returns the current state.
     pub fn state(&self) -> &State {
         &self.state
@@ -323,6 +336,9 @@ impl Simulation {
         if self.adaptive.is_some() {
             return self.adaptive_step(f64::INFINITY);
         }
+        if self.holds_everything() {
+            return Ok(());
+        }
         self.remember_start();
         let t_start = self.state.t;
         self.stepper.step(&self.system, self.h, &mut self.state);
@@ -331,6 +347,37 @@ impl Simulation {
         self.state.t = self.t0 + self.steps as f64 * self.h;
         self.check_finite()?;
         self.collide(t_start)
+    }
+
+    /// Takes the step at once when every body is asleep or static and nothing can move
+    /// (see [`Contacts::holds_everything`]): the time advances and the state keeps its
+    /// bits, as the integrator followed by the contacts' hold would leave it. Returns
+    /// whether it did. A scene at rest then costs a pass over its sleep states a step,
+    /// not an integration and a pass over every collider.
+    fn holds_everything(&mut self) -> bool {
+        let Some(c) = &mut self.contacts else {
+            return false;
+        };
+        let spins = self.system.spins();
+        let inertia = if spins {
+            self.system.inverse_inertia()
+        } else {
+            None
+        };
+        if !c
+            .contacts
+            .holds_everything(self.system.len(), self.system.inverse_masses(), inertia)
+        {
+            return false;
+        }
+        c.contacts.hold_still();
+        c.held += 1;
+        // What the full step does after a hold: the stepper forgets what it carried
+        // over, and t_n = t0 + n·h.
+        self.stepper.reset();
+        self.steps += 1;
+        self.state.t = self.t0 + self.steps as f64 * self.h;
+        true
     }
 
     /// Keeps the state at the start of the step about to be taken, for collisions.

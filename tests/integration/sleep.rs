@@ -335,3 +335,54 @@ fn two_islands_at_rest_side_by_side_both_sleep_and_stay_asleep() {
         sim.step().expect("finite");
     }
 }
+
+#[test]
+fn a_scene_asleep_takes_its_steps_at_once_with_the_bits_of_the_full_step() {
+    // Three boxes stacked on the floor fall asleep; from then on every step of the
+    // scene can only hold them, and takes no integration. The same scene with one more
+    // static body left out of `[contacts]` cannot skip the integrator (that body is
+    // not the contacts' to hold), so it takes every step in full: both must agree to
+    // the bit, at every step.
+    let boxes: String = (0..3)
+        .map(|k| {
+            format!(
+                "[[body]]\nname = \"b{k}\"\nmass = 1.0\nposition = [0.0, {}]\n\
+                 shape = {{ box = {{ width = 0.5, height = 0.5 }} }}\n",
+                0.25 + 0.5 * f64::from(k)
+            )
+        })
+        .collect();
+    let marker = "[[body]]\nname = \"marker\"\nstatic = true\nposition = [2.5, 20.0]\n\
+                  shape = { circle = { radius = 0.1 } }\n";
+    let fast = on_floor("", &boxes);
+    let full = on_floor(
+        "bodies = [\"floor\", \"b0\", \"b1\", \"b2\"]",
+        &format!("{boxes}{marker}"),
+    );
+    let (mut a, mut b) = (fast.simulation(), full.simulation());
+    for _ in 0..fast.total_steps() {
+        a.step().expect("finite");
+        b.step().expect("finite");
+        let (sa, sb) = (a.state(), b.state());
+        assert_eq!(sa.t.to_bits(), sb.t.to_bits());
+        for i in 0..4 {
+            assert_eq!(sa.pos[i], sb.pos[i], "position of {i} at t = {}", sa.t);
+            assert_eq!(sa.vel[i], sb.vel[i], "velocity of {i} at t = {}", sa.t);
+            assert_eq!(sa.angle[i].to_bits(), sb.angle[i].to_bits());
+            assert_eq!(sa.omega[i].to_bits(), sb.omega[i].to_bits());
+        }
+        let (ca, cb) = (a.contacts(), b.contacts());
+        let (ca, cb) = (ca.expect("collides"), cb.expect("collides"));
+        assert_eq!(ca.warm_start(), cb.warm_start(), "at t = {}", sa.t);
+        assert_eq!(ca.sleep_state(), cb.sleep_state(), "at t = {}", sa.t);
+    }
+    assert!((1..4).all(|i| asleep(&a, i)), "the tower sleeps");
+    // The tower falls asleep within a second or so; every step after was taken at
+    // once, and none of the other run's.
+    assert!(
+        a.held_steps() > fast.total_steps() / 2,
+        "{}",
+        a.held_steps()
+    );
+    assert_eq!(b.held_steps(), 0);
+}
