@@ -7,7 +7,8 @@
 //!
 //! Keys are TOML dotted keys. `body.NAME.key` addresses the `[[body]]` named NAME
 //! (an unnamed body is `body0`, `body1`, … as in the scene), `force.N.key` the N-th
-//! `[[force]]` counted from 0 (and likewise `NAME.N.key` for any array of tables), and
+//! `[[force]]` counted from 0 (and likewise `NAME.N.key` for any array of tables, whose
+//! tables may also be addressed by their `name`, as in `swarm.discs.seed`), and
 //! any other path a plain table path such as `simulation.dt` or `render.view.min`;
 //! missing tables are created. The value is a
 //! TOML value; text that is not one (a bare word such as `--set name=demo`) is taken
@@ -192,28 +193,44 @@ fn insert<'i>(
             DeValue::Array(items) => {
                 let index = &parents[depth + 1];
                 let count = items.len();
-                match index
-                    .name
-                    .parse::<usize>()
-                    .ok()
-                    .and_then(|i| items.get_mut(i))
-                    .map(|item| item.get_mut())
-                {
+                // By its index, or by its `name` (a swarm's, say: swarm.discs.seed).
+                let at = index.name.parse::<usize>().ok().or_else(|| {
+                    items.iter().position(|item| {
+                        item.get_ref()
+                            .as_table()
+                            .and_then(|t| t.get("name"))
+                            .and_then(|n| n.get_ref().as_str())
+                            == Some(index.name.as_str())
+                    })
+                });
+                // The names, for the hint when neither finds a table.
+                let names: Vec<String> = items
+                    .iter()
+                    .filter_map(|item| item.get_ref().as_table())
+                    .filter_map(|t| t.get("name").and_then(|n| n.get_ref().as_str()))
+                    .map(str::to_string)
+                    .collect();
+                match at.and_then(|i| items.get_mut(i)).map(|item| item.get_mut()) {
                     Some(DeValue::Table(inner)) => {
                         table = inner;
                         depth += 2;
                     }
                     _ => {
+                        let named = if names.is_empty() {
+                            String::new()
+                        } else {
+                            format!(", named {}", names.join(", "))
+                        };
                         return Err(Diagnostic::at(
                             index.span.clone(),
                             format!("`{}` has no table `{}`", so_far(depth), index.name),
                         )
-                        .label("counted from 0 in file order")
+                        .label("an index counted from 0 in file order, or a `name`")
                         .hint(format!(
-                            "`{}` holds {count} item{}",
+                            "`{}` holds {count} item{}{named}",
                             so_far(depth),
                             if count == 1 { "" } else { "s" }
-                        )))
+                        )));
                     }
                 }
             }

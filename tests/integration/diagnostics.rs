@@ -110,6 +110,45 @@ fn set_overrides_values_by_body_name_force_index_and_table_path() {
 }
 
 #[test]
+fn set_addresses_a_swarm_by_its_name_or_its_index() {
+    let sandbox = Sandbox::new();
+    let text = r#"
+[simulation]
+dt = 0.01
+duration = 0.1
+[render]
+fps = 10
+view = { min = [-1.0, -1.0], max = [1.0, 1.0] }
+[[swarm]]
+name = "dust"
+count = 5
+seed = 1
+mass = 1.0
+position = { min = [-0.5, -0.5], max = [0.5, 0.5] }
+"#;
+    sandbox.write("s.toml", text);
+    let run = |out: &str, set: &str| {
+        let o = sandbox.run(&["export", "s.toml", "--out", out, "--set", set]);
+        (o.status.code(), stderr(&o))
+    };
+    assert_eq!(run("name.csv", "swarm.dust.seed=7").0, Some(0));
+    assert_eq!(run("index.csv", "swarm.0.seed=7").0, Some(0));
+    assert_eq!(run("plain.csv", "swarm.0.seed=1").0, Some(0));
+    let read = |f: &str| std::fs::read_to_string(sandbox.path(f)).expect("csv");
+    assert_eq!(read("name.csv"), read("index.csv"));
+    assert_ne!(
+        read("name.csv"),
+        read("plain.csv"),
+        "the seed places the swarm"
+    );
+    // A name that is not there: exit 2, and the names that are.
+    let (code, err) = run("typo.csv", "swarm.dusty.seed=7");
+    assert_eq!(code, Some(2), "{err}");
+    assert_contains(&err, &["no table `dusty`", "holds 1 item, named dust"]);
+    assert!(!sandbox.path("typo.csv").exists(), "nothing written");
+}
+
+#[test]
 fn the_manifest_records_the_overrides_and_the_hash_covers_them() {
     let sandbox = Sandbox::new();
     sandbox.write("s.toml", GOOD);
