@@ -267,20 +267,26 @@ impl Contacts {
 
     /// Returns whether a step can only hold every body where it is, without a look at
     /// the bodies' motion: sleeping is on, every one of the system's `bodies` collides,
-    /// and each is asleep or immovable (`inv_mass` and `inv_inertia` zero; the latter
-    /// only counts when the system spins). That is the case in which [`Contacts::resolve`]
-    /// holds the sleeping bodies after the integrator moved them and finds nothing else
-    /// to do (nothing awake can touch or wake them), so the simulation may skip the
-    /// integrator as well and call [`Contacts::hold_still`] instead, with the same bits.
+    /// and each is asleep or immovable ([`Contacts::all_held`]). Then
+    /// [`Contacts::resolve`] would hold the sleeping bodies after the integrator moved
+    /// them and find nothing else to do, so the simulation may skip the integrator as
+    /// well and call [`Contacts::hold_still`] instead, with the same bits.
     pub fn holds_everything(
         &self,
         bodies: usize,
         inv_mass: &[f64],
         inv_inertia: Option<&[f64]>,
     ) -> bool {
-        self.resting.sleep.is_some()
-            && self.colliders.len() >= 2
+        self.colliders.len() >= 2
             && self.colliders.len() == bodies
+            && self.all_held(inv_mass, inv_inertia)
+    }
+
+    /// Returns whether sleeping is on and every collider is asleep or immovable
+    /// (`inv_mass` and `inv_inertia` zero; the latter is `None` when the system does
+    /// not spin): a scene at rest, in which nothing can touch or wake anything.
+    pub(crate) fn all_held(&self, inv_mass: &[f64], inv_inertia: Option<&[f64]>) -> bool {
+        self.resting.sleep.is_some()
             && self.colliders.iter().zip(&self.still).all(|(c, &t)| {
                 t == sleep::ASLEEP
                     || (inv_mass[c.body] == 0.0 && inv_inertia.is_none_or(|ii| ii[c.body] == 0.0))

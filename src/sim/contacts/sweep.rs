@@ -12,7 +12,7 @@ use super::broad_phase::{swept_box, BroadPhase};
 use super::narrow_phase::{contact, Contact, Rotations};
 use super::relax::Relax;
 use super::response::{closes, collide, normal_velocity, strike_point, Inverse, Side};
-use super::sleep::{hold_all, hold_or_wake, settle, Islands, ASLEEP};
+use super::sleep::{hold_all, hold_or_wake, settle, Islands};
 use super::solver::{self, effective_mass, Manifold, Point, Velocities};
 use super::toi::{time_of_impact, Path};
 use super::{inverse, ContactEvent, Contacts, Overlap, IMPACTS_PER_BODY};
@@ -83,6 +83,14 @@ impl Contacts {
         let spins = system.spins();
         let inv_mass = system.inverse_masses();
         let inv_inertia = system.inverse_inertia();
+        // A scene at rest, every body asleep or static: the sleeping bodies are held
+        // and nothing else can happen, which is what the stages below would find, at
+        // the cost of a pass over the bodies.
+        if self.all_held(inv_mass, inv_inertia.filter(|_| spins)) {
+            hold_all(&self.still, &self.colliders, start, end, spins);
+            self.warm.clear();
+            return Ok(true);
+        }
         let Contacts {
             colliders,
             tolerance,
@@ -147,19 +155,6 @@ impl Contacts {
                 dv: end.vel[b] - start.vel[b],
                 domega: w1 - w0,
             });
-        }
-        // A scene at rest, every body asleep or static: the sleeping bodies are held
-        // and nothing else can happen, which is what the stages below would find, at
-        // the cost of a pass over the bodies.
-        if resting.sleep.is_some()
-            && still
-                .iter()
-                .zip(&s.inv)
-                .all(|(&t, inv)| t == ASLEEP || immovable(inv))
-        {
-            hold_all(still, colliders, start, end, spins);
-            warm.clear();
-            return Ok(true);
         }
         let fixed = |inv: &[Inverse], i: usize| immovable(&inv[i]);
         s.version.clear();
