@@ -144,7 +144,7 @@ pub fn contact(
                 // boxes that touch exactly side by side (the general polygon one takes
                 // them for overlapping through their full height).
                 contact_manifold_cuboid_cuboid(&pos12, ca, cb, prediction, &mut m);
-                name_box_vertices(&mut m);
+                name_box_features(&mut m);
                 return from_manifold(&m, pa, pb, tol);
             }
             contact_manifold_pfm_pfm(
@@ -334,8 +334,10 @@ fn from_manifold(m: &ContactManifold<(), ()>, pa: &Pose, pb: &Pose, tol: f64) ->
     })
 }
 
-/// Names the vertices of two boxes in a manifold of parry's box–box test by the signs
-/// of their coordinates: bit 0 for x < 0 and bit 1 for y < 0, as parry means to.
+/// Names the features of two boxes in a manifold of parry's box–box test: a vertex by
+/// the signs of its coordinates (bit 0 for x < 0, bit 1 for y < 0, as parry means to),
+/// a face by its outward normal (the manifold's normal in that box's frame: 0 for +x,
+/// 1 for -x, 2 for +y, 3 for -y).
 ///
 /// parry2d-f64 0.31 names a box's vertex by bits 31 and 30 of its coordinates' bit
 /// patterns (`Cuboid::vertex_feature_id`), the sign bits of an `f32` but mantissa bits
@@ -343,20 +345,31 @@ fn from_manifold(m: &ContactManifold<(), ()>, pa: &Pose, pb: &Pose, tol: f64) ->
 /// points of a box resting on another then share one key in the warm start, each
 /// starting from the other's impulses. The 20-row pyramid's solver then never
 /// converged: each step's first sweep changed an impulse by a fifth of the largest.
-/// Faces keep parry's ids; the two points of a manifold are the ends of the overlap of
-/// two faces, each a vertex of one box, so with vertices told apart no two share a key.
-fn name_box_vertices(m: &mut ContactManifold<(), ()>) {
-    /// parry's `PackedFeatureId` header of a vertex, in the top two bits.
+/// Its face ids are built from those vertex ids, so a box's four faces could share
+/// one, and a box tipping onto another face over another box's corners kept its keys.
+/// The two points of a manifold are the ends of the overlap of two faces, each a
+/// vertex of one box, so with vertices told apart no two share a key.
+fn name_box_features(m: &mut ContactManifold<(), ()>) {
+    /// parry's `PackedFeatureId` headers of a vertex and a face, in the top two bits.
     const VERTEX: u32 = 0b01 << 30;
+    const FACE: u32 = 0b11 << 30;
     const HEADER: u32 = 0b11 << 30;
-    let name = |id: &mut u32, local: parry2d_f64::math::Vector| {
-        if *id & HEADER == VERTEX {
-            *id = VERTEX | u32::from(local.x < 0.0) | u32::from(local.y < 0.0) << 1;
+    let face = |n: parry2d_f64::math::Vector| {
+        if n.x.abs() >= n.y.abs() {
+            FACE | u32::from(n.x < 0.0)
+        } else {
+            FACE | 2 | u32::from(n.y < 0.0)
         }
     };
+    let (face1, face2) = (face(m.local_n1), face(m.local_n2));
+    let name = |id: &mut u32, local: parry2d_f64::math::Vector, face: u32| match *id & HEADER {
+        VERTEX => *id = VERTEX | u32::from(local.x < 0.0) | u32::from(local.y < 0.0) << 1,
+        FACE => *id = face,
+        _ => {}
+    };
     for p in &mut m.points {
-        name(&mut p.fid1.0, p.local_p1);
-        name(&mut p.fid2.0, p.local_p2);
+        name(&mut p.fid1.0, p.local_p1, face1);
+        name(&mut p.fid2.0, p.local_p2, face2);
     }
 }
 
@@ -525,6 +538,34 @@ mod feature_tests {
             // them.
             let moved = ids(w, floor, x + 1e-3, 1e-4);
             assert_eq!(still, moved, "{w} on {floor} at {x}");
+        }
+    }
+
+    #[test]
+    fn a_box_on_another_face_has_other_keys() {
+        // A 3 × 2 box on a pillar 1 wide touches at the pillar's two corners whichever
+        // face it lies on; its face must tell the keys apart, so that a box tipped
+        // onto another face does not start from the impulses of the one before.
+        let top = Collider::rectangle(0, 3.0, 2.0, 1.0).expect("a box");
+        let pillar = Collider::rectangle(1, 1.0, 1.0, 1.0).expect("a box");
+        let pb = Pose::new(DVec2::new(0.0, -0.5), 0.0);
+        let keys = |angle: f64, half: f64| {
+            let pa = Pose::new(DVec2::new(0.0, half + 1e-3), angle);
+            let c = contact(&top, &pa, &pillar, &pb, 0.1, 0.01).expect("touching");
+            assert_eq!(c.count, 2);
+            c.ids
+        };
+        let quarter = std::f64::consts::FRAC_PI_2;
+        let all = [
+            keys(0.0, 1.0),
+            keys(quarter, 1.5),
+            keys(2.0 * quarter, 1.0),
+            keys(-quarter, 1.5),
+        ];
+        for (a, ka) in all.iter().enumerate() {
+            for kb in &all[a + 1..] {
+                assert!(ka.iter().all(|k| !kb.contains(k)), "{ka:x?} and {kb:x?}");
+            }
         }
     }
 }

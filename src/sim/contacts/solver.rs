@@ -375,7 +375,7 @@ pub fn linear_mass(inv: (Inverse, Inverse)) -> f64 {
 /// 12, 16, 25 and 50 sweeps: 1.21 m, 2.6, 20.9, 12.9 and 5.4 mm, then 146, 2.6, 5.1,
 /// 2.4 and 3.6 mm; and 1,000 discs poured at 16 sweeps overlapped past the limit
 /// (exit 3) with the turning push. (Both series were measured while a box's two
-/// points still shared a warm-start key, `narrow_phase::name_box_vertices`; without
+/// points still shared a warm-start key, `narrow_phase::name_box_features`; without
 /// that bug the pyramid moves 2.3 to 0.26 mm from 8 to 50 sweeps.) The velocity
 /// sweeps still turn bodies into their contacts.
 pub fn relaxation(gap: f64, slop: f64, max: f64, mass: f64) -> f64 {
