@@ -216,6 +216,26 @@ impl FrameCoder {
     }
 }
 
+/// For the eight bytes f_j of a little-endian word, returns Σ f_j and Σ j·f_j, four
+/// bytes at a time in 16-bit lanes of one multiply each (a scalar loop over the bytes
+/// cost a fifth of the encoder's time).
+///
+/// With the even bytes e_i = f_{2i} and the odd ones o_i = f_{2i+1} in lanes i = 0..3,
+/// multiplying by Σ_k c_k·2^(16k) leaves Σ_(i+k=3) x_i·c_k in the top lane: c = (1, 1,
+/// 1, 1) gives Σ x_i, and c_k = 3 - k gives Σ i·x_i. No lane passes 6·255 < 2^16, so
+/// none carries into the next. Then Σ j·f_j = 2·Σ i·e_i + 2·Σ i·o_i + Σ o_i.
+#[inline(always)]
+fn word_sums(w: u64) -> (u32, u32) {
+    const LANES: u64 = 0x00FF_00FF_00FF_00FF;
+    const ONES: u64 = 0x0001_0001_0001_0001;
+    const RAMP: u64 = 0x0000_0001_0002_0003;
+    let (even, odd) = (w & LANES, (w >> 8) & LANES);
+    let top = |x: u64| (x >> 48) as u32;
+    let (se, so) = (top(even.wrapping_mul(ONES)), top(odd.wrapping_mul(ONES)));
+    let (ve, vo) = (top(even.wrapping_mul(RAMP)), top(odd.wrapping_mul(RAMP)));
+    (se + so, 2 * ve + 2 * vo + so)
+}
+
 /// For a tile's filtered bytes f_j (at most [`TILE`]), returns `None` when all are zero,
 /// else the index of the first nonzero byte, one past the last, Σ f_j and Σ j·f_j.
 #[inline]
@@ -238,11 +258,12 @@ fn tile_bytes(f: &[u8]) -> Option<(usize, usize, u32, u32)> {
         let last = words.iter().rposition(|w| *w != 0).unwrap_or(first);
         let from = 8 * first + (words[first].trailing_zeros() / 8) as usize;
         let to = 8 * last + 8 - (words[last].leading_zeros() / 8) as usize;
-        // Fixed-length sums, which the compiler turns into vector arithmetic.
         let (mut s, mut v) = (0u32, 0u32);
-        for (j, &x) in tile.iter().enumerate() {
-            s += u32::from(x);
-            v += j as u32 * u32::from(x);
+        for (k, w) in words.into_iter().enumerate() {
+            let (ws, wv) = word_sums(w);
+            // Byte j of word k is byte 8·k + j of the tile.
+            s += ws;
+            v += wv + 8 * k as u32 * ws;
         }
         return Some((from, to, s, v));
     }
@@ -255,4 +276,53 @@ fn tile_bytes(f: &[u8]) -> Option<(usize, usize, u32, u32)> {
         v += j as u32 * u32::from(x);
     }
     Some((from, to, s, v))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The sums by lanes equal the sums byte by byte, for every tile of a stream of
+    /// pseudo-random bytes that includes the extremes (all 255, all 0, one byte).
+    #[test]
+    fn tile_sums_by_lanes_are_the_sums_byte_by_byte() {
+        let mut state = 0x9E37_79B9_7F4A_7C15u64;
+        let mut tiles: Vec<[u8; TILE]> = vec![[255; TILE], [0; TILE], [0; TILE]];
+        tiles[2][17] = 200;
+        for _ in 0..10_000 {
+            let mut tile = [0u8; TILE];
+            for b in &mut tile {
+                state = state
+                    .wrapping_mul(6_364_136_223_846_793_005)
+                    .wrapping_add(1_442_695_040_888_963_407);
+                let x = (state >> 56) as u8;
+                // Half the bytes zero, as in filtered frames.
+                *b = if state & (1 << 20) == 0 { 0 } else { x };
+            }
+            tiles.push(tile);
+        }
+        for tile in &tiles {
+            let s: u32 = tile.iter().map(|&x| u32::from(x)).sum();
+            let v: u32 = tile
+                .iter()
+                .enumerate()
+                .map(|(j, &x)| j as u32 * u32::from(x))
+                .sum();
+            let from = tile.iter().position(|x| *x != 0);
+            let to = tile.iter().rposition(|x| *x != 0).map(|l| l + 1);
+            let expected = from.zip(to).map(|(f, t)| (f, t, s, v));
+            assert_eq!(tile_bytes(tile), expected, "{tile:?}");
+            // The short last tile of a row takes the other path, with the same sums.
+            let short = &tile[..TILE - 3];
+            let s: u32 = short.iter().map(|&x| u32::from(x)).sum();
+            let v: u32 = short
+                .iter()
+                .enumerate()
+                .map(|(j, &x)| j as u32 * u32::from(x))
+                .sum();
+            if let Some((_, _, ss, vv)) = tile_bytes(short) {
+                assert_eq!((ss, vv), (s, v));
+            }
+        }
+    }
 }
