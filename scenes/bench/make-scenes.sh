@@ -39,8 +39,8 @@ k = 0.05
 FOOT
 }
 
-# bodies COUNT SEED KIND [RADIUS]: COUNT [[body]] tables; KIND is circles, arrows, mixed
-# or turning; circles and arrows have RADIUS (0.06 unless given).
+# bodies COUNT SEED KIND [RADIUS]: COUNT [[body]] tables; KIND is circles, arrows, mixed,
+# sizes or turning; circles and arrows have RADIUS (0.06 unless given).
 bodies() {
     awk -v n="$1" -v seed="$2" -v kind="$3" -v radius="${4:-0.06}" '
     function rnd() { x = (x * 16807) % 2147483647; return x / 2147483647 }
@@ -69,6 +69,15 @@ bodies() {
                         printf "%s[%.4f, %.4f]", (j ? ", " : ""), 0.06 * s * cos(a), 0.06 * s * sin(a)
                     }
                     printf "] } }\n"
+                }
+            } else if (kind == "sizes") {
+                # Every body a size of its own, as when a user scatters balls and
+                # crates of many sizes: discs of radii 0.03 to 0.1, and boxes of their
+                # own widths and heights, each at a fixed angle of its own.
+                if (rnd() < 0.5) printf "shape = { circle = { radius = %.4f } }\n", uniform(0.03, 0.1)
+                else {
+                    printf "angle = %.4f\n", uniform(-3.1416, 3.1416)
+                    printf "shape = { box = { width = %.4f, height = %.4f } }\n", uniform(0.08, 0.2), uniform(0.05, 0.15)
                 }
             } else if (kind == "turning") {
                 printf "angle = %.4f\nangular_velocity = %.4f\n", uniform(-3.1416, 3.1416), uniform(-2.0, 2.0)
@@ -108,6 +117,12 @@ bodies() {
     bodies 1000 19 mixed
     footer
 } >mixed-1000.toml
+
+{
+    header sizes-1000 "1000 discs and boxes in the default colours, no two of one size, each box at a fixed angle of its own." 10.0
+    bodies 1000 31 sizes
+    footer
+} >sizes-1000.toml
 
 {
     header turning-boxes-1000 "1000 boxes in the default colours, each turning at its own rate from its own angle." 10.0

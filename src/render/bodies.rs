@@ -37,8 +37,11 @@ pub struct BodyLook {
     edge: Color,
     /// A radius in pixels that encloses everything drawn for the body.
     reach: f32,
-    /// For a turning body whose outline is convex (a box, a convex polygon), the
-    /// outline and its stroke prepared for the scan converter.
+    /// For a circle, its radius in pixels.
+    circle: Option<f32>,
+    /// For a body whose outline is convex (a box, a convex polygon), the outline and
+    /// its stroke prepared for the scan converter: at angle 0 when the body turns, at
+    /// its fixed angle when it does not.
     turned: Option<TurnedOutline>,
     pub show_velocity: bool,
     pub show_force: bool,
@@ -86,10 +89,12 @@ impl BodyLook {
         let mut outline = None;
         let mut points = None;
         let mut marker = None;
+        let mut circle = None;
         match &body.shape {
             Shape::Circle { radius } => {
                 let r = (*radius as f32 * s).max(0.5);
                 reach = r;
+                circle = Some(r);
                 outline = PathBuilder::from_circle(0.0, 0.0, r);
                 marker = body.turns.then_some(r);
             }
@@ -147,10 +152,10 @@ impl BodyLook {
                 reach = reach.max(6.0);
             }
         }
-        // A turning outline that is convex is drawn by the scan converter.
+        // An outline that is convex may be drawn by the scan converter.
         let turned = outline
             .as_ref()
-            .filter(|_| body.turns && points.is_none())
+            .filter(|_| points.is_none())
             .and_then(|path| {
                 let fill: Vec<raster::Point> = path.points().iter().map(|p| (p.x, p.y)).collect();
                 let is_polygon = path.segments().all(|s| {
@@ -171,6 +176,7 @@ impl BodyLook {
             fill: color(body.color, 1.0),
             edge: color(darker(body.color), 1.0),
             reach,
+            circle,
             show_velocity: body.show_velocity,
             show_force: body.show_force,
         }
@@ -192,6 +198,23 @@ impl BodyLook {
     /// only [`BodyLook::draw_orientation`] over it.
     pub fn turns_by_marker(&self) -> bool {
         self.marker.is_some()
+    }
+
+    /// Returns a circle's radius in pixels; `None` for other shapes.
+    pub fn circle_radius(&self) -> Option<f32> {
+        self.circle
+    }
+
+    /// Returns a circle's look with its radius, in pixels, changed to `radius`, for the
+    /// sprite of a snapped radius ([`super::looks`]); `None` for other shapes.
+    pub fn with_radius(&self, radius: f32) -> Option<BodyLook> {
+        self.circle?;
+        Some(BodyLook {
+            outline: PathBuilder::from_circle(0.0, 0.0, radius),
+            reach: radius,
+            circle: Some(radius),
+            ..self.clone()
+        })
     }
 
     /// Returns true when the look is an outline alone (a circle, box or polygon),
@@ -300,9 +323,35 @@ impl BodyLook {
     }
 
     /// Returns true when [`BodyLook::draw_turned_fast`] draws this look through the
-    /// scan converter.
+    /// scan converter: a turning convex outline.
     pub fn turns_fast(&self) -> bool {
-        self.turned.is_some()
+        self.turns && self.turned.is_some()
+    }
+
+    /// Returns true when [`BodyLook::draw_fast`] draws this look through the scan
+    /// converter: a convex outline that never turns.
+    pub fn draws_fast(&self) -> bool {
+        !self.turns && self.turned.is_some()
+    }
+
+    /// Draws a convex outline that never turns (a box, or a convex polygon, at its
+    /// fixed angle) with its centre of mass at pixel (x, y), through the scan
+    /// converter: the bytes of [`BodyLook::draw`] for the fill, and for the stroke a
+    /// difference only where its round joins are cut into chords, as
+    /// [`BodyLook::draw_turned_fast`] draws a turning one. Other looks are drawn by
+    /// [`BodyLook::draw`].
+    pub fn draw_fast(&self, pixmap: &mut Pixmap, x: f32, y: f32) {
+        match (&self.turned, self.turns) {
+            (Some(turned), false) => raster::fill_turned(
+                pixmap,
+                &turned.fill,
+                &turned.ring,
+                Transform::from_translate(x, y),
+                Ink::of(self.fill),
+                Ink::of(self.edge),
+            ),
+            _ => self.draw(pixmap, x, y),
+        }
     }
 
     fn draw_turned_with(&self, pixmap: &mut Pixmap, x: f32, y: f32, theta: f64, fast: bool) {

@@ -18,7 +18,7 @@ use std::sync::Arc;
 
 use super::bodies::BodyLook;
 use super::camera::Camera;
-use super::sprite::{SpriteCoverage, SpriteSheet};
+use super::sprite::{SpriteCoverage, SpriteSheet, PHASES};
 use super::turning::{TurningCoverage, TurningSheet};
 use super::BodyDrawing;
 use crate::scene::{Body, Shape};
@@ -99,6 +99,67 @@ impl GeometryKey {
     }
 }
 
+/// Snaps a disc's radius in pixels to the nearest 1/[`PHASES`] of a pixel (at least
+/// 0.5, the smallest radius drawn): an edge moves by at most 1/16 pixel, as much as
+/// snapping the position does.
+pub fn snap_radius(r: f32) -> f32 {
+    let step = PHASES as f32;
+    ((r * step).round() / step).max(0.5)
+}
+
+/// Rasterises the sprite of every snapped radius that [`Looks::new`] stamps discs
+/// from: those of looks whose geometry fewer than [`SPRITE_MIN_BODIES`] bodies share,
+/// in a scene of at least that many discs. The sheets are shared among the available
+/// threads; each is rasterised on its own, so they do not depend on the threads.
+fn snapped_sheets(
+    looks: &[Look],
+    users: &HashMap<GeometryKey, usize>,
+    geometry_of: &[GeometryKey],
+    discs: usize,
+) -> HashMap<u32, Option<Arc<SpriteCoverage>>> {
+    let mut wanted: Vec<BodyLook> = Vec::new();
+    let mut seen = std::collections::HashSet::new();
+    if discs >= SPRITE_MIN_BODIES {
+        for (look, geometry) in looks.iter().zip(geometry_of) {
+            let body = &look.body;
+            let stamps = !body.turns() || body.turns_by_marker();
+            if users[geometry] >= SPRITE_MIN_BODIES || !body.is_outline() || !stamps {
+                continue;
+            }
+            let Some(r) = body.circle_radius().map(snap_radius) else {
+                continue;
+            };
+            if seen.insert(r.to_bits()) {
+                if let Some(l) = body.with_radius(r) {
+                    wanted.push(l);
+                }
+            }
+        }
+    }
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .clamp(1, wanted.len().max(1));
+    let per = wanted.len().div_ceil(threads).max(1);
+    let sheets: Vec<Option<Arc<SpriteCoverage>>> = std::thread::scope(|scope| {
+        let handles: Vec<_> = wanted
+            .chunks(per)
+            .map(|part| {
+                scope.spawn(move || part.iter().map(SpriteSheet::coverage).collect::<Vec<_>>())
+            })
+            .collect();
+        handles
+            .into_iter()
+            // Rasterising cannot panic short of a bug, and then the panic goes on.
+            .flat_map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
+            .collect()
+    });
+    wanted
+        .iter()
+        .zip(sheets)
+        .filter_map(|(l, sheet)| Some((l.circle_radius()?.to_bits(), sheet)))
+        .collect()
+}
+
 impl Looks {
     /// Groups the bodies shown into looks, and gives sprites to the small outline
     /// geometries that at least [`SPRITE_MIN_BODIES`] bodies share when `drawing`
@@ -109,6 +170,10 @@ impl Looks {
         let mut index: HashMap<LookKey, u32> = HashMap::new();
         let mut users: HashMap<GeometryKey, usize> = HashMap::new();
         let mut look_of = Vec::with_capacity(shown.len());
+        let discs = shown
+            .iter()
+            .filter(|b| matches!(b.shape, Shape::Circle { .. }))
+            .count();
         for b in shown {
             let geometry = GeometryKey::of(b);
             *users.entry(geometry.clone()).or_default() += 1;
@@ -135,6 +200,9 @@ impl Looks {
             // each look's colours.
             let mut coverage: HashMap<&GeometryKey, Option<Arc<SpriteCoverage>>> = HashMap::new();
             let mut turning: HashMap<&GeometryKey, Option<Arc<TurningCoverage>>> = HashMap::new();
+            // Sprites of snapped radii, keyed by the radius's bits, rasterised on every
+            // core at once: a scene of discs of many sizes has dozens.
+            let mut snapped = snapped_sheets(&looks, &users, &geometry_of, discs);
             for (look, geometry) in looks.iter_mut().zip(&geometry_of) {
                 // A turning convex look that many bodies share is stamped at angle
                 // bins.
@@ -150,7 +218,23 @@ impl Looks {
                 // A turning look is stamped only when turning adds a line over the
                 // same disc: a circle.
                 let stamps = !look.body.turns() || look.body.turns_by_marker();
-                if users[geometry] < SPRITE_MIN_BODIES || !look.body.is_outline() || !stamps {
+                if !look.body.is_outline() || !stamps {
+                    continue;
+                }
+                if users[geometry] < SPRITE_MIN_BODIES {
+                    // In a scene of many discs, a disc whose radius too few bodies
+                    // share is stamped from the sprite of its radius snapped to
+                    // 1/PHASES pixel, which other discs of nearby radii share.
+                    let radius = look
+                        .body
+                        .circle_radius()
+                        .filter(|_| discs >= SPRITE_MIN_BODIES);
+                    if let Some(r) = radius {
+                        let sheet = snapped.entry(snap_radius(r).to_bits()).or_default();
+                        look.sprite = sheet
+                            .as_ref()
+                            .map(|c| SpriteSheet::with_coverage(Arc::clone(c), &look.body));
+                    }
                     continue;
                 }
                 let sheet = coverage

@@ -151,6 +151,10 @@ pub struct Renderer {
     /// paths, when at least [`SPRITE_MIN_BODIES`] bodies have them, so that scenes of a
     /// few bodies are drawn exactly as their paths.
     turning_fast: bool,
+    /// Whether convex outlines that never turn and have no sprite go through the scan
+    /// converter ([`BodyLook::draw_fast`]): when at least [`SPRITE_MIN_BODIES`] moving
+    /// bodies are drawn that way.
+    fixed_fast: bool,
 }
 
 pub use looks::SPRITE_MIN_BODIES;
@@ -216,6 +220,18 @@ impl Renderer {
                 .filter(|&&l| looks[l as usize].body.turns_fast())
                 .count()
                 >= SPRITE_MIN_BODIES;
+        // So do convex outlines that never turn and are not stamped (boxes of many
+        // sizes, or each at an angle of its own), when many bodies are.
+        let fixed_fast = drawing == BodyDrawing::Sprites
+            && look_of
+                .iter()
+                .zip(shown)
+                .filter(|(&l, b)| {
+                    let look = &looks[l as usize];
+                    !b.is_static && look.sprite.is_none() && look.body.draws_fast()
+                })
+                .count()
+                >= SPRITE_MIN_BODIES;
         // Static bodies never move: they are drawn once, into the static layer, over its
         // fields and curves as every body is, and wiped from the margins of a plot with
         // axes as every body is at each frame. Frames then skip them.
@@ -271,6 +287,7 @@ impl Renderer {
             duration: scene.frame_time(r.frame_count - 1).max(f64::MIN_POSITIVE),
             drawing,
             turning_fast,
+            fixed_fast,
         }
     }
 
@@ -616,6 +633,7 @@ impl Renderer {
                     look.body.draw_turned_fast(pixmap, x, y, theta)
                 }
                 (None, Some(theta)) => look.body.draw_turned(pixmap, x, y, theta),
+                (None, None) if self.fixed_fast => look.body.draw_fast(pixmap, x, y),
                 (None, None) => look.body.draw(pixmap, x, y),
             }
         }
