@@ -85,13 +85,46 @@ impl FrameCoder {
         let stride = 4 * self.width as usize;
         let tiles_per_row = stride.div_ceil(TILE);
         let data = frame.data();
-        let previous = self.png.take().filter(|_| !changed.is_whole());
+        // The last frame's bits can be copied only when its tiles were recorded: a
+        // frame marked changed everywhere is encoded whole and records none, and the
+        // frame after it records them afresh.
+        let previous = self
+            .png
+            .take()
+            .filter(|_| !changed.is_whole() && !self.row_items.is_empty());
         let mut out = std::mem::take(&mut self.spare);
         let (mut w, idat_start) =
             start_png(self.codes, self.width, self.height, provenance, &mut out);
         let mut adler = Sums { a: 1, b: 0 };
         self.next_items.clear();
         self.next_row_items.clear();
+        if changed.is_whole() {
+            // Nothing to copy: every row is compressed whole, as the tiles would give
+            // it bit for bit, without recording the tiles. A frame that differs
+            // everywhere from the one before (arrows over trails, every frame) costs
+            // what `fdeflate` over the frame costs, not a tile's bookkeeping per
+            // tile.
+            let mut filtered = std::mem::take(&mut self.filtered);
+            for y in 0..self.height as usize {
+                let row = &data[y * stride..(y + 1) * stride];
+                match y.checked_sub(1) {
+                    Some(a) => up_filter(row, &data[a * stride..y * stride], &mut filtered),
+                    None => filtered.copy_from_slice(row),
+                }
+                w.flush_run();
+                adler.add_byte(UP);
+                w.literal(usize::from(UP));
+                adler.add(&filtered);
+                w.bytes(&filtered);
+                adler.reduce();
+            }
+            self.filtered = filtered;
+            self.items.clear();
+            self.row_items.clear();
+            let png = finish_png(w, adler, idat_start);
+            self.spare = Vec::new();
+            return self.png.insert(png).as_slice();
+        }
         let mut dirty = std::mem::take(&mut self.dirty);
         for y in 0..self.height as usize {
             let row = &data[y * stride..(y + 1) * stride];

@@ -221,7 +221,7 @@ fn frames_encoded_against_the_frame_before_are_the_bits_of_a_fresh_encoding() {
     let provenance = Provenance::default().with("physframes:frame", 3);
     let mut coder = FrameCoder::new(width, height).expect("readable");
     let mut last: Option<Damage> = None;
-    for k in [0, 1, 2, 5, 6, 3, 8, 8, 0, 7] {
+    for (i, k) in [0, 1, 2, 5, 6, 3, 8, 8, 0, 7].into_iter().enumerate() {
         let (frame, damage) = frame_with_discs(&layer, k);
         let mut changed = TileMask::new(width, height);
         changed.clear();
@@ -229,6 +229,11 @@ fn frames_encoded_against_the_frame_before_are_the_bits_of_a_fresh_encoding() {
         match &last {
             Some(before) => changed.add_damage(before),
             None => changed.set_whole(),
+        }
+        // A frame marked changed everywhere midway (compressed whole, its tiles not
+        // recorded): the frame after it must record them afresh.
+        if i == 5 {
+            changed.set_whole();
         }
         // A spare tile marked where nothing changed.
         changed.add_rect(crate::render::PixelRect {
