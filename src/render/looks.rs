@@ -32,8 +32,11 @@ pub const SPRITE_MIN_BODIES: usize = 16;
 pub struct Look {
     pub body: BodyLook,
     pub sprite: Option<SpriteSheet>,
-    /// For a turning convex look, its sprites at angle bins.
+    /// For a turning convex look, its sprites at angle bins; also for a convex look
+    /// that never turns, when many bodies share its shape at other angles.
     pub turning: Option<TurningSheet>,
+    /// For a look that never turns but is stamped from `turning`, its fixed angle.
+    pub fixed_angle: Option<f64>,
 }
 
 /// The distinct looks of a scene's bodies, and the look of each body.
@@ -169,6 +172,12 @@ impl Looks {
         let mut geometry_of: Vec<GeometryKey> = Vec::new();
         let mut index: HashMap<LookKey, u32> = HashMap::new();
         let mut users: HashMap<GeometryKey, usize> = HashMap::new();
+        // For each look of a convex body that never turns: the key its shape has when
+        // it turns (angle 0), its look prepared so, and its own angle; and how many
+        // bodies have each such shape, turning or at any fixed angle.
+        let mut fixed_of: Vec<Option<(GeometryKey, f64)>> = Vec::new();
+        let mut turned_looks: HashMap<GeometryKey, BodyLook> = HashMap::new();
+        let mut shape_users: HashMap<GeometryKey, usize> = HashMap::new();
         let mut look_of = Vec::with_capacity(shown.len());
         let discs = shown
             .iter()
@@ -177,6 +186,15 @@ impl Looks {
         for b in shown {
             let geometry = GeometryKey::of(b);
             *users.entry(geometry.clone()).or_default() += 1;
+            let convex_kind = matches!(b.shape, Shape::Box { .. } | Shape::Polygon { .. });
+            let turned_key = convex_kind.then(|| GeometryKey {
+                turns: true,
+                angle: 0,
+                ..geometry.clone()
+            });
+            if let Some(k) = &turned_key {
+                *shape_users.entry(k.clone()).or_default() += 1;
+            }
             let key = LookKey {
                 geometry,
                 color: b.color.0,
@@ -189,8 +207,21 @@ impl Looks {
                     body: BodyLook::new(b, camera),
                     sprite: None,
                     turning: None,
+                    fixed_angle: None,
                 });
                 geometry_of.push(key.geometry);
+                let fixed = turned_key.filter(|_| !b.turns).map(|k| {
+                    turned_looks.entry(k.clone()).or_insert_with(|| {
+                        let turning = Body {
+                            turns: true,
+                            angle: 0.0,
+                            ..b.clone()
+                        };
+                        BodyLook::new(&turning, camera)
+                    });
+                    (k, b.angle)
+                });
+                fixed_of.push(fixed);
                 next
             });
             look_of.push(i);
@@ -199,21 +230,38 @@ impl Looks {
             // One coverage per geometry, rasterised for its first look and stamped in
             // each look's colours.
             let mut coverage: HashMap<&GeometryKey, Option<Arc<SpriteCoverage>>> = HashMap::new();
-            let mut turning: HashMap<&GeometryKey, Option<Arc<TurningCoverage>>> = HashMap::new();
+            let mut turning: HashMap<GeometryKey, Option<Arc<TurningCoverage>>> = HashMap::new();
             // Sprites of snapped radii, keyed by the radius's bits, rasterised on every
             // core at once: a scene of discs of many sizes has dozens.
             let mut snapped = snapped_sheets(&looks, &users, &geometry_of, discs);
-            for (look, geometry) in looks.iter_mut().zip(&geometry_of) {
+            for ((look, geometry), fixed) in looks.iter_mut().zip(&geometry_of).zip(&fixed_of) {
                 // A turning convex look that many bodies share is stamped at angle
                 // bins.
                 if look.body.turns_fast() && users[geometry] >= SPRITE_MIN_BODIES {
                     let sheet = turning
-                        .entry(geometry)
+                        .entry(geometry.clone())
                         .or_insert_with(|| TurningCoverage::new(&look.body));
                     look.turning = sheet
                         .as_ref()
                         .map(|c| TurningSheet::new(Arc::clone(c), &look.body));
                     continue;
+                }
+                // A convex look that never turns and that too few bodies share for a
+                // sprite of its own, but whose shape many bodies have at other angles
+                // (crates scattered at angles of their own), is stamped from the
+                // turning shape's sprites at its fixed angle.
+                if let Some((key, angle)) = fixed {
+                    let shared = shape_users.get(key).copied().unwrap_or(0);
+                    if users[geometry] < SPRITE_MIN_BODIES && shared >= SPRITE_MIN_BODIES {
+                        let sheet = turning.entry(key.clone()).or_insert_with(|| {
+                            turned_looks.get(key).and_then(TurningCoverage::new)
+                        });
+                        if let Some(c) = sheet {
+                            look.turning = Some(TurningSheet::new(Arc::clone(c), &look.body));
+                            look.fixed_angle = Some(*angle);
+                            continue;
+                        }
+                    }
                 }
                 // A turning look is stamped only when turning adds a line over the
                 // same disc: a circle.

@@ -228,7 +228,10 @@ impl Renderer {
                 .zip(shown)
                 .filter(|(&l, b)| {
                     let look = &looks[l as usize];
-                    !b.is_static && look.sprite.is_none() && look.body.draws_fast()
+                    !b.is_static
+                        && look.sprite.is_none()
+                        && look.turning.is_none()
+                        && look.body.draws_fast()
                 })
                 .count()
                 >= SPRITE_MIN_BODIES;
@@ -572,7 +575,11 @@ impl Renderer {
                 continue;
             }
             // A body that turns is drawn at this frame's angle.
-            let angle = frame.angle.filter(|_| look.body.turns()).map(|a| a[i]);
+            let angle = frame
+                .angle
+                .filter(|_| look.body.turns())
+                .map(|a| a[i])
+                .or(look.fixed_angle);
             if let Some(damage) = damage.as_deref_mut().filter(|d| !d.is_whole()) {
                 // A turning stamp changes exactly its sprite's rectangle.
                 if let (Some(sheet), Some(theta)) = (&look.turning, angle) {

@@ -452,6 +452,7 @@ fn scenes_written_as_users_write_them_give_the_same_bytes_with_one_and_two_threa
     // Every body a size or an angle of its own: snapped-radius sprites and fixed
     // convex outlines through the scan converter.
     same_bytes_with_one_and_two_threads("sizes", &sized_scene(120), "0..8");
+    same_bytes_with_one_and_two_threads("crates", &crates_scene(120, 320, 180), "0..8");
     same_bytes_with_one_and_two_threads("late-trails", &trails, "17..29");
     // Bodies that collide, rest, turn and fall asleep on a ramp and a floor, with
     // trails and arrows (the bench's scene, drawn smaller), after they have settled.
@@ -760,6 +761,88 @@ fn turning_sprites_look_like_their_paths_at_the_exact_angle_and_position() {
         assert!(largest <= 64, "{shape:?}: largest difference {largest}/255");
         assert!(mean < 4.0, "{shape:?}: mean difference {mean}/255");
     }
+}
+
+/// `count` moving boxes of one size and triangles of one shape (every third), none
+/// turning, each at a fixed angle of its own, in a `width` × `height` image.
+fn crates_scene(count: usize, width: u32, height: u32) -> String {
+    let mut text = format!(
+        "[simulation]\nduration = 2.0\n[render]\nwidth = {width}\nheight = {height}\nfps = 20\nview = {{ min = [0.0, 0.0], max = [16.0, 9.0] }}\n",
+    );
+    for i in 0..count {
+        let k = (i * 7919) % 293;
+        let shape = if i % 3 == 2 {
+            "{ polygon = { points = [[-0.1, -0.05], [0.12, -0.04], [0.0, 0.1]] } }"
+        } else {
+            "{ box = { width = 0.16, height = 0.08 } }"
+        };
+        text.push_str(&format!(
+            "[[body]]\nmass = 1.0\nposition = [{:.3}, {:.3}]\nvelocity = [{:.3}, {:.3}]\nangle = {:.4}\nshape = {shape}\n",
+            0.3 + (k as f64 * 0.161) % 15.4,
+            0.3 + (i as f64 * 0.377) % 8.4,
+            ((k % 13) as f64 - 6.0) * 0.4,
+            ((i % 11) as f64 - 5.0) * 0.3,
+            6.2 * i as f64 / count as f64 - 3.1,
+        ));
+    }
+    text
+}
+
+#[test]
+fn crates_at_angles_of_their_own_are_stamped_from_the_turning_sprites() {
+    // 200 boxes of one size and 100 triangles of one shape, none turning, each at a
+    // fixed angle of its own: no two share a geometry, but 16 or more share a shape,
+    // so each is stamped from its shape's sprites at angle bins, at its angle. The
+    // bounds are those of turning sprites against paths (the test above).
+    use physframes::render::{ArrowScales, BodyDrawing, FrameView, Renderer};
+    let s = crate::util::scene(&crates_scene(300, 1280, 720));
+    let looks =
+        physframes::render::looks::Looks::new(&s.bodies, &camera_16_by_9(), BodyDrawing::Sprites);
+    assert_eq!(looks.looks.len(), 300, "every body a look of its own");
+    for (look, body) in looks.looks.iter().zip(&s.bodies) {
+        assert!(look.turning.is_some() && look.sprite.is_none());
+        assert_eq!(look.fixed_angle, Some(body.angle));
+    }
+    let arrows = ArrowScales {
+        velocity: 1.0,
+        force: 1.0,
+    };
+    let state = s.initial_state();
+    let view = FrameView {
+        index: 0,
+        t: 0.0,
+        pos: &state.pos,
+        vel: &[],
+        angle: None,
+        force: None,
+        trail: None,
+        traces: None,
+        compare: None,
+    };
+    let stamped = Renderer::with_drawing(&s, arrows, BodyDrawing::Sprites).draw(&view);
+    let paths = Renderer::with_drawing(&s, arrows, BodyDrawing::Paths).draw(&view);
+    let background = Renderer::with_drawing(&s, arrows, BodyDrawing::Paths).new_frame();
+    let (largest, count) = diff(&stamped, &paths);
+    let covered = diff(&paths, &background).1;
+    let total: u64 = stamped
+        .data()
+        .chunks_exact(4)
+        .zip(paths.data().chunks_exact(4))
+        .map(|(p, q)| {
+            u64::from(
+                p.iter()
+                    .zip(q)
+                    .map(|(a, b)| a.abs_diff(*b))
+                    .max()
+                    .unwrap_or(0),
+            )
+        })
+        .sum();
+    let mean = total as f64 / covered as f64;
+    eprintln!("crates at their own angles: {count} of {covered} covered pixels differ, by {largest}/255 at most, {mean:.2}/255 on average");
+    assert!(covered > 20_000, "the bodies cover {covered} pixels");
+    assert!(largest <= 64, "largest difference {largest}/255");
+    assert!(mean < 4.0, "mean difference {mean}/255");
 }
 
 #[test]
