@@ -43,6 +43,9 @@ pub struct BodyLook {
     /// its stroke prepared for the scan converter: at angle 0 when the body turns, at
     /// its fixed angle when it does not.
     turned: Option<TurnedOutline>,
+    /// For a body whose outline is a polygon that is not convex, the polygon and its
+    /// stroke (the capsules of its edges) for the general scan, prepared as `turned`.
+    general: Option<GeneralOutline>,
     pub show_velocity: bool,
     pub show_force: bool,
 }
@@ -55,6 +58,18 @@ struct TurnedOutline {
     fill: Vec<raster::Point>,
     ring: raster::Ring,
 }
+
+/// A polygon outline that is not convex as [`raster::fill_outline`] draws it: its
+/// points and its stroke's polygons, the capsules of its edges.
+#[derive(Clone, Debug)]
+struct GeneralOutline {
+    fill: Vec<raster::Point>,
+    stroke: Vec<Vec<raster::Point>>,
+}
+
+/// The largest reach, in pixels, of an outline drawn by the general scan: farther
+/// points could leave the band where its fixed-point arithmetic is tiny-skia's.
+const MAX_GENERAL_REACH: f32 = 2048.0;
 
 /// Half the width of every outline's stroke, in pixels.
 const OUTLINE_HALF_WIDTH: f64 = 0.75;
@@ -167,10 +182,43 @@ impl BodyLook {
                 let ring = raster::Ring::of_convex(&fill, OUTLINE_HALF_WIDTH)?;
                 is_polygon.then_some(TurnedOutline { fill, ring })
             });
+        // An outline of straight edges that is not convex goes through the general
+        // scan: the polygon, and its stroke as the union of its edges' capsules.
+        let general = outline
+            .as_ref()
+            .filter(|_| turned.is_none() && points.is_none() && reach <= MAX_GENERAL_REACH)
+            .filter(|path| {
+                path.segments().all(|s| {
+                    matches!(
+                        s,
+                        PathSegment::MoveTo(_) | PathSegment::LineTo(_) | PathSegment::Close
+                    )
+                })
+            })
+            .map(|path| {
+                let fill: Vec<raster::Point> = path.points().iter().map(|p| (p.x, p.y)).collect();
+                let mut stroke = Vec::with_capacity(fill.len());
+                for (k, &a) in fill.iter().enumerate() {
+                    let b = fill[(k + 1) % fill.len()];
+                    if a == b {
+                        continue;
+                    }
+                    let mut capsule = Vec::new();
+                    raster::capsule(
+                        (f64::from(a.0), f64::from(a.1)),
+                        (f64::from(b.0), f64::from(b.1)),
+                        OUTLINE_HALF_WIDTH,
+                        &mut capsule,
+                    );
+                    stroke.push(capsule);
+                }
+                GeneralOutline { fill, stroke }
+            });
         BodyLook {
             outline,
             turns: body.turns,
             turned,
+            general,
             marker,
             points,
             fill: color(body.color, 1.0),
@@ -316,10 +364,26 @@ impl BodyLook {
         Some((ex + grow, ey + grow))
     }
 
-    /// Returns a turning convex outline's points at angle 0 and the ring its stroke
-    /// covers, as [`BodyLook::draw_turned_fast`] draws them; `None` for other looks.
-    pub fn turned_outline(&self) -> Option<(&[raster::Point], &raster::Ring)> {
-        self.turned.as_ref().map(|t| (&t.fill[..], &t.ring))
+    /// Draws the look as [`BodyLook::draw_turned_fast`] does through the scan
+    /// converter (a convex outline, or a polygon that is not convex), its fill into
+    /// `fill` and its stroke into `edge`, both in `ink`, placed and turned by `at`;
+    /// returns false, drawing nothing, for other looks.
+    pub fn draw_fast_apart(
+        &self,
+        fill: &mut Pixmap,
+        edge: &mut Pixmap,
+        at: Transform,
+        ink: Ink,
+    ) -> bool {
+        if let Some(general) = &self.general {
+            raster::fill_outline_apart(fill, edge, &general.fill, &general.stroke, at, ink);
+            return true;
+        }
+        if let Some(turned) = &self.turned {
+            raster::fill_turned_apart(fill, edge, &turned.fill, &turned.ring, at, ink);
+            return true;
+        }
+        false
     }
 
     /// Returns true when [`BodyLook::draw_turned_fast`] draws this look through the
@@ -329,9 +393,15 @@ impl BodyLook {
     }
 
     /// Returns true when [`BodyLook::draw_fast`] draws this look through the scan
-    /// converter: a convex outline that never turns.
+    /// converter: an outline of straight edges (convex or not) that never turns.
     pub fn draws_fast(&self) -> bool {
-        !self.turns && self.turned.is_some()
+        !self.turns && (self.turned.is_some() || self.general.is_some())
+    }
+
+    /// Returns true when [`BodyLook::draw_turned_fast`] draws this look through the
+    /// general scan: a turning polygon that is not convex.
+    pub fn turns_general(&self) -> bool {
+        self.turns && self.general.is_some()
     }
 
     /// Draws a convex outline that never turns (a box, or a convex polygon, at its
@@ -341,6 +411,17 @@ impl BodyLook {
     /// [`BodyLook::draw_turned_fast`] draws a turning one. Other looks are drawn by
     /// [`BodyLook::draw`].
     pub fn draw_fast(&self, pixmap: &mut Pixmap, x: f32, y: f32) {
+        if let (Some(general), false) = (&self.general, self.turns) {
+            raster::fill_outline(
+                pixmap,
+                &general.fill,
+                &general.stroke,
+                Transform::from_translate(x, y),
+                Ink::of(self.fill),
+                Ink::of(self.edge),
+            );
+            return;
+        }
         match (&self.turned, self.turns) {
             (Some(turned), false) => raster::fill_turned(
                 pixmap,
@@ -363,6 +444,17 @@ impl BodyLook {
         let (s, c) = theta.sin_cos();
         let (s, c) = (s as f32, c as f32);
         let at = Transform::from_row(c, -s, s, c, x, y);
+        if let (true, Some(general)) = (fast, &self.general) {
+            raster::fill_outline(
+                pixmap,
+                &general.fill,
+                &general.stroke,
+                at,
+                Ink::of(self.fill),
+                Ink::of(self.edge),
+            );
+            return;
+        }
         if let (true, Some(turned)) = (fast, &self.turned) {
             raster::fill_turned(
                 pixmap,

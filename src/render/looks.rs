@@ -237,7 +237,8 @@ impl Looks {
             for ((look, geometry), fixed) in looks.iter_mut().zip(&geometry_of).zip(&fixed_of) {
                 // A turning convex look that many bodies share is stamped at angle
                 // bins.
-                if look.body.turns_fast() && users[geometry] >= SPRITE_MIN_BODIES {
+                let scanned = look.body.turns_fast() || look.body.turns_general();
+                if scanned && users[geometry] >= SPRITE_MIN_BODIES {
                     let sheet = turning
                         .entry(geometry.clone())
                         .or_insert_with(|| TurningCoverage::new(&look.body));

@@ -217,7 +217,10 @@ impl Renderer {
         let turning_fast = drawing == BodyDrawing::Sprites
             && look_of
                 .iter()
-                .filter(|&&l| looks[l as usize].body.turns_fast())
+                .filter(|&&l| {
+                    let body = &looks[l as usize].body;
+                    body.turns_fast() || body.turns_general()
+                })
                 .count()
                 >= SPRITE_MIN_BODIES;
         // So do convex outlines that never turn and are not stamped (boxes of many

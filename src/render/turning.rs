@@ -1,5 +1,6 @@
-//! Sprites of turning outlines: a small convex look that many bodies share, rasterised
-//! once per angle bin and sub-pixel phase, and stamped at each frame's angle.
+//! Sprites of turning outlines: a small look of straight edges (convex, or a polygon
+//! that is not) that many bodies share, rasterised once per angle bin and sub-pixel
+//! phase, and stamped at each frame's angle, or at a body's fixed angle.
 //!
 //! A turning box drawn by the scan converter ([`super::raster`]) still costs a few
 //! microseconds a frame, most of it walking its outline and stroke sub-row by sub-row.
@@ -25,7 +26,6 @@ use std::sync::{Arc, OnceLock};
 use tiny_skia::{Color, Pixmap, Transform};
 
 use super::bodies::BodyLook;
-use super::raster;
 use super::sprite::{snap_to, Ink, Sprite};
 
 /// Sub-pixel phases per axis of a turning sprite: positions are rounded to 1/8 pixel.
@@ -38,9 +38,8 @@ pub const MAX_TURNING_REACH: f32 = 16.0;
 /// A turning look's coverage at every angle bin and phase, made an angle at a time.
 #[derive(Debug)]
 pub struct TurningCoverage {
-    /// The outline at angle 0 and its stroke's ring.
-    fill: Vec<raster::Point>,
-    ring: raster::Ring,
+    /// The look at angle 0, drawn through the scan converter at each bin.
+    look: BodyLook,
     /// Room around the centre in the pixmaps the sprites are cut from.
     pad: i32,
     /// For each angle bin, its sprites, phase by phase (row of phases after row).
@@ -59,7 +58,9 @@ impl TurningCoverage {
     /// Prepares the sprites of a turning convex look, or returns `None` when the look is
     /// not one or reaches farther than [`MAX_TURNING_REACH`].
     pub fn new(look: &BodyLook) -> Option<Arc<Self>> {
-        let (fill, ring) = look.turned_outline()?;
+        if !look.turns_fast() && !look.turns_general() {
+            return None;
+        }
         let reach = look.reach();
         if reach.is_nan() || reach > MAX_TURNING_REACH {
             return None;
@@ -69,8 +70,7 @@ impl TurningCoverage {
             .ceil()
             .max(8.0) as usize;
         Some(Arc::new(TurningCoverage {
-            fill: fill.to_vec(),
-            ring: ring.clone(),
+            look: look.clone(),
             pad: (reach + 3.0).ceil() as i32,
             bins: (0..n).map(|_| OnceLock::new()).collect(),
         }))
@@ -109,11 +109,9 @@ impl TurningCoverage {
                 // Opaque white over transparent black leaves the coverage in alpha.
                 let blank = || Pixmap::new(side, side).expect("a sprite of a few pixels");
                 let (mut fill, mut edge) = (blank(), blank());
-                raster::fill_turned_apart(
+                self.look.draw_fast_apart(
                     &mut fill,
                     &mut edge,
-                    &self.fill,
-                    &self.ring,
                     Transform::from_row(c, -s, s, c, x, y),
                     Ink::of(Color::WHITE),
                 );
