@@ -27,6 +27,7 @@ use tiny_skia::Pixmap;
 
 use crate::render::fastpng::{FrameCoder, StaticPng};
 use crate::render::layers::TraceRecorder;
+use crate::render::trails::SharedTrails;
 use crate::render::trails::{TrailFrame, TrailLayer};
 use crate::render::{
     encode_png_into, ArrowScales, Compression, Damage, FrameView, Provenance, Renderer,
@@ -272,6 +273,12 @@ fn render_full(
     let first_error: Mutex<Option<Error>> = Mutex::new(None);
     let written = AtomicU64::new(0);
     let (sender, receiver) = crossbeam_channel::bounded::<Job>(2 * threads);
+    let shared_trails = Arc::new(SharedTrails::new(threads));
+    // Workers take their trail segments from `shared_trails` when they encode frames
+    // against the frame before (`draw_and_write`), which they do whenever they can.
+    let share_trails = trails
+        && static_png.is_some()
+        && FrameCoder::new(scene.render.width, scene.render.height).is_some();
     let mut simulate = Duration::ZERO;
     let mut blow_up: Option<(BlowUp, u64)> = None;
     let names = scene.body_names();
@@ -281,7 +288,7 @@ fn render_full(
     };
 
     std::thread::scope(|scope| {
-        for _ in 0..threads {
+        for worker in 0..threads {
             let receiver = receiver.clone();
             let range = &range;
             let (renderer, clock, stop, first_error, written, progress, static_png) = (
@@ -293,6 +300,7 @@ fn render_full(
                 &progress,
                 &static_png,
             );
+            let shared_trails = &shared_trails;
             scope.spawn(move || {
                 // Each worker draws every frame into one pixmap and encodes into one
                 // buffer, so no frame allocates an image.
@@ -304,6 +312,7 @@ fn render_full(
                     static_png: static_png.as_ref(),
                     trails: None,
                     trail_frame: None,
+                    shared_trails: (shared_trails, worker),
                 };
                 for job in receiver {
                     if stop.load(Ordering::Relaxed) {
@@ -376,6 +385,11 @@ fn render_full(
             let pos: Arc<[DVec2]> = Arc::from(state.pos.as_slice());
             if trails {
                 history.push(Arc::clone(&pos));
+                // Each frame's trail segments are rasterised once, here, for every
+                // worker's layer, while the workers draw the frames before.
+                if share_trails {
+                    renderer.rasterise_trails(&shared_trails, history.history());
+                }
             }
             if let Some(traces) = &mut traces {
                 traces.record(state.t, &state.pos, &state.vel);
@@ -527,6 +541,9 @@ struct Buffers<'a> {
     /// frame the worker drew: its trail layer and bodies, and the encoder that keeps
     /// the last frame's bits.
     trail_frame: Option<(TrailFrame, FrameCoder)>,
+    /// The render's trail segments, rasterised once for all its workers, and this
+    /// worker's number.
+    shared_trails: (&'a Arc<SharedTrails>, usize),
 }
 
 /// Draws, encodes and writes one frame, adding each stage's time to the clock.
@@ -559,8 +576,10 @@ fn draw_and_write(
     // last frame this worker drew. The PNG does not depend on which frame that was.
     let incremental = job.trail.is_some() && buffers.static_png.is_some();
     if incremental && buffers.trail_frame.is_none() {
-        buffers.trail_frame =
-            FrameCoder::new(width, height).map(|coder| (TrailFrame::new(width, height), coder));
+        let (shared, worker) = buffers.shared_trails;
+        let shared = Arc::clone(shared);
+        buffers.trail_frame = FrameCoder::new(width, height)
+            .map(|coder| (TrailFrame::sharing(width, height, shared, worker), coder));
     }
     if let (true, Some((state, coder))) = (incremental, &mut buffers.trail_frame) {
         renderer.draw_trail_frame(&view, &mut buffers.pixmap, state);

@@ -44,7 +44,7 @@ use bodies::{draw_arrow, draw_arrow_path};
 use clip::ClipRect;
 use damage::TileMask;
 use looks::Look;
-use trails::{TrailFrame, TrailLayer, TrailStyle};
+use trails::{SharedTrails, TrailFrame, TrailLayer, TrailStyle};
 
 /// The state of one frame, as the renderer sees it.
 #[derive(Clone, Copy, Debug)]
@@ -361,6 +361,16 @@ impl Renderer {
         pixmap
     }
 
+    /// Rasterises, into `shared`, the trail segments of the frames of `history` that it
+    /// has not rasterised yet, so that the workers drawing those frames find them done
+    /// ([`TrailFrame::sharing`]).
+    pub fn rasterise_trails(&self, shared: &SharedTrails, history: &crate::history::PointHistory) {
+        shared.advance(
+            history,
+            (&self.trails, &self.camera, &self.clip, &self.static_layer),
+        );
+    }
+
     /// Returns a new layer for the trails, when frames show trails: a worker keeps one
     /// and hands it to [`Renderer::draw_with_trails`] with each frame it draws.
     pub fn new_trail_layer(&self) -> TrailLayer {
@@ -471,7 +481,14 @@ impl Renderer {
             state.changed.set_whole();
             return;
         };
-        let layer = state.layer.get_or_insert_with(|| self.new_trail_layer());
+        let shared = &state.shared;
+        let layer = state.layer.get_or_insert_with(|| {
+            let mut layer = self.new_trail_layer();
+            if let Some((shared, worker)) = shared {
+                layer.share(std::sync::Arc::clone(shared), *worker);
+            }
+            layer
+        });
         layer.advance(
             &self.trails,
             &self.camera,

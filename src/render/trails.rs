@@ -23,6 +23,8 @@
 //! was one translucent stroke drawn in body order, and a newer trail is drawn over an
 //! older one.
 
+use std::sync::{Arc, Mutex};
+
 use glam::DVec2;
 use tiny_skia::Pixmap;
 
@@ -77,6 +79,9 @@ pub struct TrailFrame {
     pub(super) bodies: super::Damage,
     /// The tiles of pixels where the last frame drawn may differ from the one before.
     pub(super) changed: TileMask,
+    /// The render's shared rasterisation of the segments and this worker's number in
+    /// it, for the layer.
+    pub(super) shared: Option<(Arc<SharedTrails>, usize)>,
 }
 
 impl TrailFrame {
@@ -89,6 +94,16 @@ impl TrailFrame {
             layer: None,
             bodies,
             changed: TileMask::new(width, height),
+            shared: None,
+        }
+    }
+
+    /// Like [`TrailFrame::new`], for worker number `worker` of a render, whose layer
+    /// takes its segments from `shared`, rasterised once for all the render's workers.
+    pub fn sharing(width: u32, height: u32, shared: Arc<SharedTrails>, worker: usize) -> Self {
+        TrailFrame {
+            shared: Some((shared, worker)),
+            ..Self::new(width, height)
         }
     }
 
@@ -114,6 +129,9 @@ pub struct TrailLayer {
     /// The tiles where `base` changed since [`TrailLayer::take_changed`] last took them
     /// (every tile, for a new or restarted layer).
     changed: TileMask,
+    /// The render's shared rasterisation of the segments and this layer's worker
+    /// number in it, when the layer takes its segments from there.
+    shared: Option<(Arc<SharedTrails>, usize)>,
 }
 
 impl TrailLayer {
@@ -127,6 +145,7 @@ impl TrailLayer {
             frames: 0,
             outline: Vec::new(),
             changed: TileMask::new(static_layer.width(), static_layer.height()),
+            shared: None,
         }
     }
 
@@ -163,50 +182,228 @@ impl TrailLayer {
             self.changed.set_whole();
         }
         let (width, height) = (self.base.width(), self.base.height());
+        let target = history.len();
+        if target == self.frames {
+            return;
+        }
+        // The render's producer, or another worker, may have rasterised these frames
+        // already: their pixels are copied, not rasterised again.
+        if let Some((shared, worker)) = &self.shared {
+            let frames =
+                shared.pixels_for(self.frames, history, (style, camera, clip, static_layer));
+            if let Some(frames) = frames {
+                let w = width as usize;
+                let base = self.base.data_mut();
+                for pixels in &frames {
+                    for &(p, rgba) in pixels.iter() {
+                        let p = p as usize;
+                        base[4 * p..4 * p + 4].copy_from_slice(&rgba);
+                        self.changed.mark(p % w, p / w);
+                    }
+                }
+                self.frames = target;
+                shared.reached(*worker, target);
+                return;
+            }
+            // What this layer needs was forgotten (it started again, say): it goes on
+            // on its own, from the static layer.
+            self.shared = None;
+            self.base.data_mut().copy_from_slice(static_layer.data());
+            self.coverage.fill(0);
+            self.owner.fill(0);
+            self.frames = 0;
+            self.changed.set_whole();
+        }
         let mut previous: Option<&[DVec2]> = self
             .frames
             .checked_sub(1)
             .and_then(|k| history.get(k))
             .map(|p| &p[..]);
+        let w = width as usize;
         for positions in history.iter_from(self.frames) {
             if let Some(before) = previous {
-                for (i, &ink) in style.ink_of.iter().enumerate() {
-                    let (Some(a), Some(b)) = (before.get(i), positions.get(i)) else {
-                        continue;
-                    };
-                    let ends = clip.segment(camera.to_pixel_f64(*a), camera.to_pixel_f64(*b));
-                    let Some((a, b)) = ends else {
-                        continue;
-                    };
-                    raster::capsule(a, b, HALF_WIDTH, &mut self.outline);
-                    let (coverage, owner) = (&mut self.coverage, &mut self.owner);
-                    let changed = &mut self.changed;
-                    // The row of the last pixel marked: pixels come row after row, so
-                    // a row is found by division once, not once a pixel.
-                    let w = width as usize;
-                    let (mut row, mut row_start) = (0, 0);
-                    let (base, layer) = (self.base.data_mut(), static_layer.data());
-                    let trail = style.inks[ink as usize];
-                    raster::cover_convex(width, height, &self.outline, |p, c| {
-                        // The strongest segment holds the pixel; a newer one of
-                        // another colour takes it when at least as strong.
-                        let held = coverage[p];
-                        if c > held || (c == held && owner[p] != ink) {
-                            coverage[p] = c;
-                            owner[p] = ink;
-                            let k = 4 * p;
-                            base[k..k + 4].copy_from_slice(&layer[k..k + 4]);
-                            trail.blend(&mut base[k..k + 4], c);
-                            if p < row_start || p >= row_start + w {
-                                row = p / w;
-                                row_start = row * w;
-                            }
-                            changed.mark(p - row_start, row);
+                let base = self.base.data_mut();
+                let changed = &mut self.changed;
+                // The row of the last pixel marked: pixels come row after row, so a
+                // row is found by division once, not once a pixel.
+                let (mut row, mut row_start) = (0, 0);
+                rasterise_frame(
+                    (style, camera, clip, static_layer),
+                    (width, height),
+                    (before, positions),
+                    (&mut self.coverage, &mut self.owner, &mut self.outline),
+                    |p, rgba| {
+                        base[4 * p..4 * p + 4].copy_from_slice(&rgba);
+                        if p < row_start || p >= row_start + w {
+                            row = p / w;
+                            row_start = row * w;
                         }
-                    });
-                }
+                        changed.mark(p - row_start, row);
+                    },
+                );
             }
             previous = Some(positions);
+            self.frames += 1;
+        }
+    }
+
+    /// Takes this layer's segments from `shared`, rasterised once for all the workers
+    /// of a render, as worker number `worker`; the layer stays the function of the
+    /// history it is on its own.
+    pub fn share(&mut self, shared: Arc<SharedTrails>, worker: usize) {
+        self.shared = Some((shared, worker));
+    }
+}
+
+/// What a frame's segments are drawn with: the trails' colours, the camera, the clip
+/// and the static layer they blend over.
+pub(super) type Drawing<'a> = (&'a TrailStyle, &'a Camera, &'a ClipRect, &'a Pixmap);
+
+/// Rasterises the segments of one frame, from the positions `before` to `positions`,
+/// body by body, into the coverage and owner of each pixel, and calls `put(p, rgba)`
+/// for each pixel p whose trail changes, with its new colour: the static layer's with
+/// the strongest segment's trail colour blended over it at its coverage. The strongest
+/// segment holds a pixel; a newer one of another colour takes it when at least as
+/// strong.
+fn rasterise_frame(
+    (style, camera, clip, static_layer): Drawing<'_>,
+    (width, height): (u32, u32),
+    (before, positions): (&[DVec2], &[DVec2]),
+    (coverage, owner, outline): (&mut [u8], &mut [u32], &mut Vec<raster::Point>),
+    mut put: impl FnMut(usize, [u8; 4]),
+) {
+    let layer = static_layer.data();
+    for (i, &ink) in style.ink_of.iter().enumerate() {
+        let (Some(a), Some(b)) = (before.get(i), positions.get(i)) else {
+            continue;
+        };
+        let ends = clip.segment(camera.to_pixel_f64(*a), camera.to_pixel_f64(*b));
+        let Some((a, b)) = ends else {
+            continue;
+        };
+        raster::capsule(a, b, HALF_WIDTH, outline);
+        let trail = style.inks[ink as usize];
+        raster::cover_convex(width, height, outline, |p, c| {
+            let held = coverage[p];
+            if c > held || (c == held && owner[p] != ink) {
+                coverage[p] = c;
+                owner[p] = ink;
+                let k = 4 * p;
+                let mut rgba = [layer[k], layer[k + 1], layer[k + 2], layer[k + 3]];
+                trail.blend(&mut rgba, c);
+                put(p, rgba);
+            }
+        });
+    }
+}
+
+/// A frame's changed trail pixels: (pixel index, colour), in the order they changed.
+type FramePixels = Arc<[(u32, [u8; 4])]>;
+
+/// The trails of one render, rasterised once and shared by its workers.
+///
+/// Each worker keeps its own [`TrailLayer`], because each draws a different frame; on
+/// its own, each rasterised every frame's segments, so that `n` workers did the work
+/// `n` times over. Instead each frame's segments are rasterised here, once (by the
+/// render's producer as it records the frame's positions, or else by the first worker
+/// to need them), into one coverage and owner by the same rule as a layer on its own,
+/// and the pixels they changed are kept; each worker copies those pixels into its
+/// layer. A frame's pixels are kept until every worker has passed it.
+pub struct SharedTrails {
+    state: Mutex<Shared>,
+}
+
+#[derive(Default)]
+struct Shared {
+    coverage: Vec<u8>,
+    owner: Vec<u32>,
+    outline: Vec<raster::Point>,
+    /// How many frames of the history are rasterised.
+    frames: usize,
+    /// The changed pixels of frames `first..frames`.
+    first: usize,
+    pixels: std::collections::VecDeque<FramePixels>,
+    /// How many frames each worker's layer holds.
+    reached: Vec<usize>,
+}
+
+impl SharedTrails {
+    /// Shared trails for a render of `workers` workers, numbered from 0: a frame's
+    /// pixels are kept until each of them has passed it.
+    pub fn new(workers: usize) -> Self {
+        SharedTrails {
+            state: Mutex::new(Shared {
+                reached: vec![0; workers.max(1)],
+                ..Shared::default()
+            }),
+        }
+    }
+
+    /// Notes that `worker`'s layer holds `frames` frames, and forgets the pixels of
+    /// the frames every worker has passed.
+    fn reached(&self, worker: usize, frames: usize) {
+        let mut s = self.state.lock().unwrap_or_else(|p| p.into_inner());
+        if let Some(r) = s.reached.get_mut(worker) {
+            *r = frames;
+        }
+        let passed = s.reached.iter().copied().min().unwrap_or(0);
+        while s.first < passed && !s.pixels.is_empty() {
+            s.pixels.pop_front();
+            s.first += 1;
+        }
+    }
+
+    /// Returns the changed pixels of frames `from..history.len()`, rasterising those
+    /// not yet rasterised, or `None` when some were forgotten.
+    fn pixels_for(
+        &self,
+        from: usize,
+        history: &PointHistory,
+        drawing: Drawing<'_>,
+    ) -> Option<Vec<FramePixels>> {
+        let mut s = self.state.lock().unwrap_or_else(|p| p.into_inner());
+        if from < s.first {
+            return None;
+        }
+        s.advance(history, drawing);
+        let (start, end) = (from - s.first, history.len() - s.first);
+        Some(s.pixels.range(start..end).cloned().collect())
+    }
+
+    /// Rasterises the segments of the frames of `history` not yet rasterised, so that
+    /// the workers find them done: the render's producer calls this as it records each
+    /// frame's positions, off the workers' way.
+    pub(super) fn advance(&self, history: &PointHistory, drawing: Drawing<'_>) {
+        let mut s = self.state.lock().unwrap_or_else(|p| p.into_inner());
+        s.advance(history, drawing);
+    }
+}
+
+impl Shared {
+    /// Rasterises frames `self.frames..history.len()`.
+    fn advance(&mut self, history: &PointHistory, drawing: Drawing<'_>) {
+        let (width, height) = (drawing.3.width(), drawing.3.height());
+        let n = (width * height) as usize;
+        if self.coverage.len() != n {
+            self.coverage = vec![0; n];
+            self.owner = vec![0; n];
+        }
+        while self.frames < history.len() {
+            let k = self.frames;
+            let mut changed = Vec::new();
+            if let (Some(before), Some(positions)) = (
+                k.checked_sub(1).and_then(|j| history.get(j)),
+                history.get(k),
+            ) {
+                rasterise_frame(
+                    drawing,
+                    (width, height),
+                    (before, positions),
+                    (&mut self.coverage, &mut self.owner, &mut self.outline),
+                    |p, rgba| changed.push((p as u32, rgba)),
+                );
+            }
+            self.pixels.push_back(Arc::from(changed));
             self.frames += 1;
         }
     }

@@ -55,7 +55,7 @@ pub struct TurningSheet {
 }
 
 impl TurningCoverage {
-    /// Prepares the sprites of a turning convex look, or returns `None` when the look is
+    /// Prepares the sprites of a turning look of straight edges, or returns `None` when the look is
     /// not one or reaches farther than [`MAX_TURNING_REACH`].
     pub fn new(look: &BodyLook) -> Option<Arc<Self>> {
         if !look.turns_fast() && !look.turns_general() {

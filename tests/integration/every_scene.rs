@@ -633,6 +633,87 @@ fn a_trail_layer_gives_each_frame_the_same_pixels_whatever_frames_came_before() 
 }
 
 #[test]
+fn workers_sharing_one_rasterisation_of_the_trails_draw_the_frames_of_a_layer_on_its_own() {
+    // The render's workers take each frame's trail pixels from one shared
+    // rasterisation: done ahead by the producer for some frames, by the first worker
+    // to need them for the others. Two workers drawing alternate frames, and one
+    // jumping ahead, must each give the pixels of a layer that rasterised every frame
+    // itself; a worker sent back to an earlier frame (another render) starts again on
+    // its own.
+    use physframes::render::trails::{SharedTrails, TrailFrame};
+    use physframes::render::FrameView;
+    use std::sync::Arc;
+    let s = crate::util::scene(&user_scene(40, 0, true, false));
+    let renderer = physframes::render::Renderer::new(
+        &s,
+        physframes::render::ArrowScales {
+            velocity: 1.0,
+            force: 1.0,
+        },
+    );
+    let history = trail_history(&s, 30);
+    let shared = Arc::new(SharedTrails::new(2));
+    let (w, h) = (s.render.width, s.render.height);
+    let mut workers = [
+        (
+            TrailFrame::sharing(w, h, Arc::clone(&shared), 0),
+            renderer.new_frame(),
+        ),
+        (
+            TrailFrame::sharing(w, h, Arc::clone(&shared), 1),
+            renderer.new_frame(),
+        ),
+    ];
+    let mut alone = None;
+    let frame = |k: usize, state: &mut TrailFrame, pixmap: &mut Pixmap| {
+        let pos = history[k].last().expect("a frame").clone();
+        let view = FrameView {
+            index: k as u64,
+            t: s.frame_time(k as u64),
+            pos: &pos,
+            vel: &[],
+            angle: None,
+            force: None,
+            trail: Some(&history[k]),
+            traces: None,
+            compare: None,
+        };
+        renderer.draw_trail_frame(&view, pixmap, state);
+        pixmap.clone()
+    };
+    // Worker 0 draws the even frames, worker 1 every third odd one, jumping.
+    for k in 0..30 {
+        if k % 4 == 0 {
+            // The producer rasterises ahead, as in a render.
+            renderer.rasterise_trails(&shared, &history[(k + 3).min(29)]);
+        }
+        let expected = draw_trail_frame(&renderer, &s, &history, k, &mut alone);
+        let worker = if k % 2 == 0 {
+            Some(0)
+        } else if k % 6 == 1 {
+            Some(1)
+        } else {
+            None
+        };
+        if let Some(i) = worker {
+            let (state, pixmap) = &mut workers[i];
+            let got = frame(k, state, pixmap);
+            assert!(
+                got.data() == expected.data(),
+                "frame {k}: worker {i} differs from a layer on its own"
+            );
+        }
+    }
+    let expected = draw_trail_frame(&renderer, &s, &history, 4, &mut None);
+    let (state, pixmap) = &mut workers[0];
+    let back = frame(4, state, pixmap);
+    assert!(
+        back.data() == expected.data(),
+        "going back to frame 4 differs"
+    );
+}
+
+#[test]
 fn a_trail_drawn_segment_by_segment_looks_like_one_stroke_through_its_points() {
     // Before issue #16 a trail was one translucent stroke (1.5 pixels, round joins and
     // caps) through every point so far; now it is its segments, each pixel keeping the
