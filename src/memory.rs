@@ -6,8 +6,9 @@
 //! starts from, and, with trails, the positions of every body at every frame, held once
 //! and shared by the frames queued between the simulation and the threads (each holds a
 //! pointer and a length, whatever its index), and each thread's trail layer: the static
-//! layer with the trails over it, and 5 bytes a pixel of what holds each pixel. When that exceeds the
-//! memory available, physframes refuses to start and says what would fit.
+//! layer with the trails over it, and 5 bytes a pixel of what holds each pixel, and once
+//! more those 5 bytes a pixel for the rasterisation the threads share. When that exceeds
+//! the memory available, physframes refuses to start and says what would fit.
 //!
 //! The memory available is `MemAvailable` from `/proc/meminfo` on Linux, lowered to a
 //! cgroup's (container's) remaining allowance when one is set. Where neither can be
@@ -43,11 +44,14 @@ impl Estimate {
         } else {
             0
         };
-        // A thread's trail layer: a frame, a coverage byte and a 4-byte colour a pixel.
+        // A thread's trail layer: a frame, a coverage byte and a 4-byte colour a pixel;
+        // and the same bytes a pixel once more for the segments rasterised once for all
+        // threads (`render::trails::SharedTrails`).
         let layer = if r.trails { frame + frame / 4 * 5 } else { 0 };
+        let shared = if r.trails { frame / 4 * 5 } else { 0 };
         Estimate {
             frame,
-            fixed: frame + trails,
+            fixed: frame + trails + shared,
             per_thread: BUFFERS_PER_THREAD * frame + layer,
         }
     }
@@ -201,10 +205,14 @@ mod tests {
         // and nothing that grows with the number of frames.
         assert_eq!(e.per_thread, 3 * 64 * 48 * 4 + 64 * 48 * (4 + 5));
         // Two bodies' positions, the pointer's header and its slot for every frame; the
-        // slot is no larger than the estimate says.
+        // slot is no larger than the estimate says. And once, the coverage and owner of
+        // the segments rasterised for every thread.
         let slot = std::mem::size_of::<std::sync::OnceLock<std::sync::Arc<[glam::DVec2]>>>();
         assert!(slot <= 24, "a slot takes {slot} bytes");
-        assert_eq!(e.fixed, 64 * 48 * 4 + frames * (2 * 16 + 16 + 48));
+        assert_eq!(
+            e.fixed,
+            64 * 48 * 4 + frames * (2 * 16 + 16 + 48) + 64 * 48 * 5
+        );
     }
 
     #[test]

@@ -32,8 +32,9 @@ pub const SPRITE_MIN_BODIES: usize = 16;
 pub struct Look {
     pub body: BodyLook,
     pub sprite: Option<SpriteSheet>,
-    /// For a turning convex look, its sprites at angle bins; also for a convex look
-    /// that never turns, when many bodies share its shape at other angles.
+    /// For a turning look of straight edges (a box, a polygon), its sprites at angle
+    /// bins; also for such a look that never turns, when many bodies share its shape
+    /// at other angles.
     pub turning: Option<TurningSheet>,
     /// For a look that never turns but is stamped from `turning`, its fixed angle.
     pub fixed_angle: Option<f64>,
@@ -172,9 +173,9 @@ impl Looks {
         let mut geometry_of: Vec<GeometryKey> = Vec::new();
         let mut index: HashMap<LookKey, u32> = HashMap::new();
         let mut users: HashMap<GeometryKey, usize> = HashMap::new();
-        // For each look of a convex body that never turns: the key its shape has when
-        // it turns (angle 0), its look prepared so, and its own angle; and how many
-        // bodies have each such shape, turning or at any fixed angle.
+        // For each look of a box or polygon that never turns: the key its shape has
+        // when it turns (angle 0), its look prepared so, and its own angle; and how
+        // many bodies have each such shape, turning or at any fixed angle.
         let mut fixed_of: Vec<Option<(GeometryKey, f64)>> = Vec::new();
         let mut turned_looks: HashMap<GeometryKey, BodyLook> = HashMap::new();
         let mut shape_users: HashMap<GeometryKey, usize> = HashMap::new();
@@ -186,8 +187,8 @@ impl Looks {
         for b in shown {
             let geometry = GeometryKey::of(b);
             *users.entry(geometry.clone()).or_default() += 1;
-            let convex_kind = matches!(b.shape, Shape::Box { .. } | Shape::Polygon { .. });
-            let turned_key = convex_kind.then(|| GeometryKey {
+            let straight = matches!(b.shape, Shape::Box { .. } | Shape::Polygon { .. });
+            let turned_key = straight.then(|| GeometryKey {
                 turns: true,
                 angle: 0,
                 ..geometry.clone()
@@ -235,8 +236,8 @@ impl Looks {
             // core at once: a scene of discs of many sizes has dozens.
             let mut snapped = snapped_sheets(&looks, &users, &geometry_of, discs);
             for ((look, geometry), fixed) in looks.iter_mut().zip(&geometry_of).zip(&fixed_of) {
-                // A turning convex look that many bodies share is stamped at angle
-                // bins.
+                // A turning look of straight edges that many bodies share is stamped
+                // at angle bins.
                 let scanned = look.body.turns_fast() || look.body.turns_general();
                 if scanned && users[geometry] >= SPRITE_MIN_BODIES {
                     let sheet = turning
@@ -247,8 +248,8 @@ impl Looks {
                         .map(|c| TurningSheet::new(Arc::clone(c), &look.body));
                     continue;
                 }
-                // A convex look that never turns and that too few bodies share for a
-                // sprite of its own, but whose shape many bodies have at other angles
+                // A box or polygon look that never turns and that too few bodies share
+                // for a sprite of its own, but whose shape many bodies have at other angles
                 // (crates scattered at angles of their own), is stamped from the
                 // turning shape's sprites at its fixed angle.
                 if let Some((key, angle)) = fixed {
