@@ -248,6 +248,11 @@ impl BodyLook {
         self.marker.is_some()
     }
 
+    /// Returns true for a body of point masses.
+    pub fn has_points(&self) -> bool {
+        self.points.is_some()
+    }
+
     /// Returns a circle's radius in pixels; `None` for other shapes.
     pub fn circle_radius(&self) -> Option<f32> {
         self.circle

@@ -18,7 +18,8 @@ use std::sync::Arc;
 
 use super::bodies::BodyLook;
 use super::camera::Camera;
-use super::sprite::{SpriteCoverage, SpriteSheet, PHASES};
+use super::picture::PictureSheet;
+use super::sprite::{SpriteCoverage, SpriteSheet, MAX_SPRITE_REACH, PHASES};
 use super::turning::{TurningCoverage, TurningSheet};
 use super::BodyDrawing;
 use crate::scene::{Body, Shape};
@@ -38,6 +39,9 @@ pub struct Look {
     pub turning: Option<TurningSheet>,
     /// For a look that never turns but is stamped from `turning`, its fixed angle.
     pub fixed_angle: Option<f64>,
+    /// For a body of point masses that never turns and that many bodies share, its
+    /// picture at every phase ([`super::picture`]).
+    pub picture: Option<Arc<PictureSheet>>,
 }
 
 /// The distinct looks of a scene's bodies, and the look of each body.
@@ -209,6 +213,7 @@ impl Looks {
                     sprite: None,
                     turning: None,
                     fixed_angle: None,
+                    picture: None,
                 });
                 geometry_of.push(key.geometry);
                 let fixed = turned_key.filter(|_| !b.turns).map(|k| {
@@ -264,6 +269,14 @@ impl Looks {
                             continue;
                         }
                     }
+                }
+                // A body of point masses that never turns, and whose geometry many
+                // bodies share, is laid over the frame as a picture in its colours.
+                if look.body.has_points() {
+                    if !look.body.turns() && users[geometry] >= SPRITE_MIN_BODIES {
+                        look.picture = PictureSheet::new(&look.body, MAX_SPRITE_REACH);
+                    }
+                    continue;
                 }
                 // A turning look is stamped only when turning adds a line over the
                 // same disc: a circle.

@@ -22,6 +22,7 @@ pub mod encode;
 pub mod fastpng;
 pub mod layers;
 pub mod looks;
+pub mod picture;
 pub mod plot;
 pub mod raster;
 pub mod springs;
@@ -607,6 +608,12 @@ impl Renderer {
                     sheet.stamp(pixmap, x, y, theta);
                     continue;
                 }
+                // So does a picture's.
+                if let (Some(picture), None) = (&look.picture, angle) {
+                    damage.add_rect(picture.footprint(x, y), self.width, self.height);
+                    picture.stamp(pixmap, x, y);
+                    continue;
+                }
                 match &look.sprite {
                     // A stamp changes exactly its sprite's rectangle.
                     Some(sprite) if angle.is_none() => {
@@ -644,6 +651,10 @@ impl Renderer {
             }
             if let (Some(sheet), Some(theta)) = (&look.turning, angle) {
                 sheet.stamp(pixmap, x, y, theta);
+                continue;
+            }
+            if let (Some(picture), None) = (&look.picture, angle) {
+                picture.stamp(pixmap, x, y);
                 continue;
             }
             match (&look.sprite, angle) {
