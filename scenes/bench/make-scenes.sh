@@ -40,7 +40,7 @@ FOOT
 }
 
 # bodies COUNT SEED KIND [RADIUS]: COUNT [[body]] tables; KIND is circles, arrows, mixed,
-# sizes or turning; circles and arrows have RADIUS (0.06 unless given).
+# sizes, crates, dumbbells or turning; circles and arrows have RADIUS (0.06 unless given).
 bodies() {
     awk -v n="$1" -v seed="$2" -v kind="$3" -v radius="${4:-0.06}" '
     function rnd() { x = (x * 16807) % 2147483647; return x / 2147483647 }
@@ -50,7 +50,9 @@ bodies() {
         for (i = 0; i < n; i++) {
             px = uniform(0.5, 15.5); py = uniform(0.5, 8.5)
             vx = uniform(-0.3, 0.3); vy = uniform(-0.3, 0.3)
-            printf "[[body]]\nmass = 1.0\nposition = [%.4f, %.4f]\nvelocity = [%.4f, %.4f]\n", px, py, vx, vy
+            printf "[[body]]\n"
+            if (kind != "dumbbells") printf "mass = 1.0\n"
+            printf "position = [%.4f, %.4f]\nvelocity = [%.4f, %.4f]\n", px, py, vx, vy
             if (kind == "circles" || kind == "arrows") {
                 printf "shape = { circle = { radius = %s } }\n", radius
                 if (kind == "arrows") print "show_velocity = true"
@@ -79,6 +81,16 @@ bodies() {
                     printf "angle = %.4f\n", uniform(-3.1416, 3.1416)
                     printf "shape = { box = { width = %.4f, height = %.4f } }\n", uniform(0.08, 0.2), uniform(0.05, 0.15)
                 }
+            } else if (kind == "crates") {
+                # Boxes of one size and L shapes of one size, none turning, each at a
+                # fixed angle of its own.
+                printf "angle = %.4f\n", uniform(-3.1416, 3.1416)
+                if (rnd() < 0.5) print "shape = { box = { width = 0.16, height = 0.08 } }"
+                else print "shape = { polygon = { points = [[-0.08, -0.08], [0.08, -0.08], [0.08, -0.03], [-0.03, -0.03], [-0.03, 0.08], [-0.08, 0.08]] } }"
+            } else if (kind == "dumbbells") {
+                # A body of two point masses (Equations 7-11 of the article) instead of
+                # mass and shape; the mass printed above is replaced by its points.
+                print "points = [{ offset = [-0.05, 0.0], mass = 1.0 }, { offset = [0.05, 0.0], mass = 2.0 }]"
             } else if (kind == "turning") {
                 printf "angle = %.4f\nangular_velocity = %.4f\n", uniform(-3.1416, 3.1416), uniform(-2.0, 2.0)
                 print "shape = { box = { width = 0.16, height = 0.08 } }"
@@ -125,6 +137,18 @@ bodies() {
 } >sizes-1000.toml
 
 {
+    header crates-1000 "1000 boxes and L shapes of one size each in the default colours, none turning, each at a fixed angle of its own." 10.0
+    bodies 1000 37 crates
+    footer
+} >crates-1000.toml
+
+{
+    header dumbbells-1000 "1000 bodies of two point masses each, alike, in the default colours." 10.0
+    bodies 1000 41 dumbbells
+    footer
+} >dumbbells-1000.toml
+
+{
     header turning-boxes-1000 "1000 boxes in the default colours, each turning at its own rate from its own angle." 10.0
     bodies 1000 23 turning
     footer
@@ -146,7 +170,9 @@ mixed_contacts() {
             px = 1.2 + 0.56 * (i % cols) + uniform(-0.05, 0.05)
             py = 2.9 + 0.5 * int(i / cols) + uniform(-0.05, 0.05)
             vx = uniform(-0.5, 0.5); vy = uniform(-0.5, 0.5)
-            printf "[[body]]\nmass = 1.0\nposition = [%.4f, %.4f]\nvelocity = [%.4f, %.4f]\n", px, py, vx, vy
+            printf "[[body]]\n"
+            if (kind != "dumbbells") printf "mass = 1.0\n"
+            printf "position = [%.4f, %.4f]\nvelocity = [%.4f, %.4f]\n", px, py, vx, vy
             k = int(3 * rnd())
             if (k == 0) print "shape = { circle = { radius = 0.1 } }"
             else {
