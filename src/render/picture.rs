@@ -22,7 +22,7 @@ use std::sync::Arc;
 use tiny_skia::Pixmap;
 
 use super::bodies::BodyLook;
-use super::sprite::{snap_to, PHASES};
+use super::sprite::{drawn_bounds, snap_to, PHASES};
 
 /// A look drawn whole at every phase, premultiplied.
 #[derive(Debug)]
@@ -130,18 +130,7 @@ impl Picture {
             let d = pixmap.data();
             [d[k], d[k + 1], d[k + 2], d[k + 3]]
         };
-        let (mut x0, mut y0, mut x1, mut y1) = (w, h, 0, 0);
-        for y in 0..h {
-            for x in 0..w {
-                if at(x, y)[3] != 0 {
-                    x0 = x0.min(x);
-                    y0 = y0.min(y);
-                    x1 = x1.max(x + 1);
-                    y1 = y1.max(y + 1);
-                }
-            }
-        }
-        if x0 >= x1 {
+        let Some((x0, y0, x1, y1)) = drawn_bounds(w, h, |x, y| at(x, y)[3] != 0) else {
             return Picture {
                 dx,
                 dy,
@@ -149,7 +138,7 @@ impl Picture {
                 height: 0,
                 rgba: Vec::new(),
             };
-        }
+        };
         let mut rgba = Vec::with_capacity((x1 - x0) * (y1 - y0));
         for y in y0..y1 {
             rgba.extend((x0..x1).map(|x| at(x, y)));

@@ -212,6 +212,28 @@ pub(crate) fn snap_to(x: f32, phases: u32) -> (i64, u32) {
     (q.div_euclid(p), q.rem_euclid(p) as u32)
 }
 
+/// Returns the smallest rectangle, columns x0..x1 and rows y0..y1 as (x0, y0, x1,
+/// y1), holding every pixel of a `width` × `height` pixmap for which `drawn` is true,
+/// or `None` when there is none.
+pub(crate) fn drawn_bounds(
+    width: usize,
+    height: usize,
+    drawn: impl Fn(usize, usize) -> bool,
+) -> Option<(usize, usize, usize, usize)> {
+    let (mut x0, mut y0, mut x1, mut y1) = (width, height, 0, 0);
+    for y in 0..height {
+        for x in 0..width {
+            if drawn(x, y) {
+                x0 = x0.min(x);
+                y0 = y0.min(y);
+                x1 = x1.max(x + 1);
+                y1 = y1.max(y + 1);
+            }
+        }
+    }
+    (x0 < x1).then_some((x0, y0, x1, y1))
+}
+
 impl Sprite {
     /// Keeps the smallest rectangle holding every pixel that the fill or the outline
     /// covers at all; (dx, dy) is where the pixmaps' top-left sits relative to the
@@ -222,18 +244,7 @@ impl Sprite {
             let k = 4 * (y * w + x) + 3;
             [fill.data()[k], edge.data()[k]]
         };
-        let (mut x0, mut y0, mut x1, mut y1) = (w, h, 0, 0);
-        for y in 0..h {
-            for x in 0..w {
-                if coverage(x, y) != [0, 0] {
-                    x0 = x0.min(x);
-                    y0 = y0.min(y);
-                    x1 = x1.max(x + 1);
-                    y1 = y1.max(y + 1);
-                }
-            }
-        }
-        if x0 >= x1 {
+        let Some((x0, y0, x1, y1)) = drawn_bounds(w, h, |x, y| coverage(x, y) != [0, 0]) else {
             return Sprite {
                 dx,
                 dy,
@@ -241,7 +252,7 @@ impl Sprite {
                 height: 0,
                 coverage: Vec::new(),
             };
-        }
+        };
         let mut kept = Vec::with_capacity((x1 - x0) * (y1 - y0));
         for y in y0..y1 {
             kept.extend((x0..x1).map(|x| coverage(x, y)));

@@ -447,16 +447,12 @@ pub(crate) fn sized_scene(count: usize) -> String {
 
 #[test]
 fn bodies_of_many_sizes_and_angles_take_the_fast_ways_and_look_like_their_paths() {
-    use physframes::render::{ArrowScales, BodyDrawing, FrameView, Renderer};
+    use physframes::render::BodyDrawing;
     let s = crate::util::scene(
         &sized_scene(300)
             .replace("width = 320", "width = 1280")
             .replace("height = 180", "height = 720"),
     );
-    let arrows = ArrowScales {
-        velocity: 1.0,
-        force: 1.0,
-    };
     let looks =
         physframes::render::looks::Looks::new(&s.bodies, &camera_16_by_9(), BodyDrawing::Sprites);
     for (b, &l) in s.bodies.iter().zip(&looks.look_of) {
@@ -468,21 +464,7 @@ fn bodies_of_many_sizes_and_angles_take_the_fast_ways_and_look_like_their_paths(
             _ => assert!(look.body.draws_fast(), "{:?} is scan-converted", b.shape),
         }
     }
-    let state = s.initial_state();
-    let view = FrameView {
-        index: 0,
-        t: 0.0,
-        pos: &state.pos,
-        vel: &[],
-        angle: None,
-        force: None,
-        trail: None,
-        traces: None,
-        compare: None,
-    };
-    let fast = Renderer::with_drawing(&s, arrows, BodyDrawing::Sprites).draw(&view);
-    let paths = Renderer::with_drawing(&s, arrows, BodyDrawing::Paths).draw(&view);
-    let background = Renderer::with_drawing(&s, arrows, BodyDrawing::Paths).new_frame();
+    let (fast, paths, background) = crate::util::first_frame_both_ways(&s);
     let (largest, count) = diff(&fast, &paths);
     let covered = diff(&paths, &background).1;
     eprintln!(
@@ -596,12 +578,17 @@ fn draw_trail_frame(
     pixmap
 }
 
-#[test]
-fn a_trail_layer_gives_each_frame_the_same_pixels_whatever_frames_came_before() {
-    // A worker's layer jumps over the frames other workers drew, and a fresh layer (a
-    // resumed or sharded render) starts from nothing: both must give the frame of a
-    // layer that saw every frame.
-    let s = crate::util::scene(&user_scene(40, 0, true, false));
+/// A user's scene of `bodies` bodies with trails, its renderer, and its trail history
+/// at each of its first `frames` frames.
+fn trail_scene(
+    bodies: usize,
+    frames: u64,
+) -> (
+    physframes::scene::Scene,
+    physframes::render::Renderer,
+    Vec<physframes::history::PointHistory>,
+) {
+    let s = crate::util::scene(&user_scene(bodies, 0, true, false));
     let renderer = physframes::render::Renderer::new(
         &s,
         physframes::render::ArrowScales {
@@ -609,7 +596,16 @@ fn a_trail_layer_gives_each_frame_the_same_pixels_whatever_frames_came_before() 
             force: 1.0,
         },
     );
-    let history = trail_history(&s, 30);
+    let history = trail_history(&s, frames);
+    (s, renderer, history)
+}
+
+#[test]
+fn a_trail_layer_gives_each_frame_the_same_pixels_whatever_frames_came_before() {
+    // A worker's layer jumps over the frames other workers drew, and a fresh layer (a
+    // resumed or sharded render) starts from nothing: both must give the frame of a
+    // layer that saw every frame.
+    let (s, renderer, history) = trail_scene(40, 30);
     let mut every = None;
     let mut jumping = None;
     for k in 0..30 {
@@ -644,15 +640,7 @@ fn workers_sharing_one_rasterisation_of_the_trails_draw_the_frames_of_a_layer_on
     use physframes::render::trails::{SharedTrails, TrailFrame};
     use physframes::render::FrameView;
     use std::sync::Arc;
-    let s = crate::util::scene(&user_scene(40, 0, true, false));
-    let renderer = physframes::render::Renderer::new(
-        &s,
-        physframes::render::ArrowScales {
-            velocity: 1.0,
-            force: 1.0,
-        },
-    );
-    let history = trail_history(&s, 30);
+    let (s, renderer, history) = trail_scene(40, 30);
     let shared = Arc::new(SharedTrails::new(2));
     let (w, h) = (s.render.width, s.render.height);
     let mut workers = [
@@ -915,19 +903,7 @@ fn turning_sprites_look_like_their_paths_at_the_exact_angle_and_position() {
             largest = largest.max(l);
             count += c;
             covered += diff(&path, &background).1;
-            for (p, q) in stamped
-                .data()
-                .chunks_exact(4)
-                .zip(path.data().chunks_exact(4))
-            {
-                total += u64::from(
-                    p.iter()
-                        .zip(q)
-                        .map(|(a, b)| a.abs_diff(*b))
-                        .max()
-                        .unwrap_or(0),
-                );
-            }
+            total += crate::util::total_difference(&stamped, &path);
         }
         let mean = total as f64 / covered as f64;
         eprintln!("{shape:?}: {count} of {covered} covered pixels differ, by {largest}/255 at most, {mean:.2}/255 on average");
@@ -998,7 +974,7 @@ fn dumbbells_that_never_turn_are_pictures_and_look_like_their_paths() {
     // marker's middle holds two lines, the boundaries of its black and white quarters:
     // 2 · 64 = 128/255 at most. Measured: 96/255 there, 67/255 elsewhere, a third of
     // the covered pixels differing. The turning ones are drawn as paths.
-    use physframes::render::{ArrowScales, BodyDrawing, FrameView, Renderer};
+    use physframes::render::BodyDrawing;
     let s = crate::util::scene(&dumbbells_scene(200, 1280, 720));
     let looks =
         physframes::render::looks::Looks::new(&s.bodies, &camera_16_by_9(), BodyDrawing::Sprites);
@@ -1010,25 +986,7 @@ fn dumbbells_that_never_turn_are_pictures_and_look_like_their_paths() {
             "a picture when it never turns"
         );
     }
-    let arrows = ArrowScales {
-        velocity: 1.0,
-        force: 1.0,
-    };
-    let state = s.initial_state();
-    let view = FrameView {
-        index: 0,
-        t: 0.0,
-        pos: &state.pos,
-        vel: &[],
-        angle: Some(&state.angle),
-        force: None,
-        trail: None,
-        traces: None,
-        compare: None,
-    };
-    let fast = Renderer::with_drawing(&s, arrows, BodyDrawing::Sprites).draw(&view);
-    let paths = Renderer::with_drawing(&s, arrows, BodyDrawing::Paths).draw(&view);
-    let background = Renderer::with_drawing(&s, arrows, BodyDrawing::Paths).new_frame();
+    let (fast, paths, background) = crate::util::first_frame_both_ways(&s);
     let (largest, count) = diff(&fast, &paths);
     let covered = diff(&paths, &background).1;
     eprintln!("dumbbells: {count} of {covered} covered pixels differ, by {largest}/255 at most");
@@ -1043,7 +1001,7 @@ fn crates_at_angles_of_their_own_are_stamped_from_the_turning_sprites() {
     // a fixed angle of its own: no two share a geometry, but 16 or more share a shape,
     // so each is stamped from its shape's sprites at angle bins, at its angle. The
     // bounds are those of turning sprites against paths (the test above).
-    use physframes::render::{ArrowScales, BodyDrawing, FrameView, Renderer};
+    use physframes::render::BodyDrawing;
     let s = crate::util::scene(&crates_scene(300, 1280, 720));
     let looks =
         physframes::render::looks::Looks::new(&s.bodies, &camera_16_by_9(), BodyDrawing::Sprites);
@@ -1052,41 +1010,10 @@ fn crates_at_angles_of_their_own_are_stamped_from_the_turning_sprites() {
         assert!(look.turning.is_some() && look.sprite.is_none());
         assert_eq!(look.fixed_angle, Some(body.angle));
     }
-    let arrows = ArrowScales {
-        velocity: 1.0,
-        force: 1.0,
-    };
-    let state = s.initial_state();
-    let view = FrameView {
-        index: 0,
-        t: 0.0,
-        pos: &state.pos,
-        vel: &[],
-        angle: None,
-        force: None,
-        trail: None,
-        traces: None,
-        compare: None,
-    };
-    let stamped = Renderer::with_drawing(&s, arrows, BodyDrawing::Sprites).draw(&view);
-    let paths = Renderer::with_drawing(&s, arrows, BodyDrawing::Paths).draw(&view);
-    let background = Renderer::with_drawing(&s, arrows, BodyDrawing::Paths).new_frame();
+    let (stamped, paths, background) = crate::util::first_frame_both_ways(&s);
     let (largest, count) = diff(&stamped, &paths);
     let covered = diff(&paths, &background).1;
-    let total: u64 = stamped
-        .data()
-        .chunks_exact(4)
-        .zip(paths.data().chunks_exact(4))
-        .map(|(p, q)| {
-            u64::from(
-                p.iter()
-                    .zip(q)
-                    .map(|(a, b)| a.abs_diff(*b))
-                    .max()
-                    .unwrap_or(0),
-            )
-        })
-        .sum();
+    let total = crate::util::total_difference(&stamped, &paths);
     let mean = total as f64 / covered as f64;
     eprintln!("crates at their own angles: {count} of {covered} covered pixels differ, by {largest}/255 at most, {mean:.2}/255 on average");
     assert!(covered > 20_000, "the bodies cover {covered} pixels");

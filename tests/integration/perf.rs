@@ -402,24 +402,7 @@ fn discs_of_a_thousand_radii_are_stamped_and_look_like_their_paths() {
 /// than 64/255, and by less than `mean_bound`/255 on average over the `min_touched` or
 /// more pixels the bodies touch.
 fn stamped_against_paths(s: &Scene, min_touched: usize, mean_bound: f64) {
-    let arrows = ArrowScales {
-        velocity: 1.0,
-        force: 1.0,
-    };
-    let state = s.initial_state();
-    let view = FrameView {
-        index: 0,
-        t: 0.0,
-        pos: &state.pos,
-        vel: &[],
-        angle: None,
-        force: None,
-        trail: None,
-        traces: None,
-        compare: None,
-    };
-    let stamped = Renderer::with_drawing(s, arrows, BodyDrawing::Sprites).draw(&view);
-    let drawn = Renderer::with_drawing(s, arrows, BodyDrawing::Paths).draw(&view);
+    let (stamped, drawn, _) = crate::util::first_frame_both_ways(s);
     let (largest, count) = diff(&stamped, &drawn);
     let touched: Vec<usize> = (0..drawn.pixels().len())
         .filter(|&i| drawn.pixels()[i] != stamped.pixels()[i] || drawn.pixels()[i].red() != 255)

@@ -170,6 +170,51 @@ pub fn diff(a: &tiny_skia::Pixmap, b: &tiny_skia::Pixmap) -> (u8, usize) {
     (largest, count)
 }
 
+/// Returns the sum, over all pixels, of the largest channel difference between two
+/// pixmaps: divided by the pixels a drawing covers, its mean difference there.
+pub fn total_difference(a: &tiny_skia::Pixmap, b: &tiny_skia::Pixmap) -> u64 {
+    a.data()
+        .chunks_exact(4)
+        .zip(b.data().chunks_exact(4))
+        .map(|(p, q)| {
+            u64::from(
+                p.iter()
+                    .zip(q)
+                    .map(|(x, y)| x.abs_diff(*y))
+                    .max()
+                    .unwrap_or(0),
+            )
+        })
+        .sum()
+}
+
+/// Draws a scene's first frame the fast ways (sprites, the scan converter, pictures)
+/// and as tiny-skia's paths, and returns both and the frame without bodies.
+pub fn first_frame_both_ways(
+    s: &Scene,
+) -> (tiny_skia::Pixmap, tiny_skia::Pixmap, tiny_skia::Pixmap) {
+    use physframes::render::{ArrowScales, BodyDrawing, FrameView, Renderer};
+    let arrows = ArrowScales {
+        velocity: 1.0,
+        force: 1.0,
+    };
+    let state = s.initial_state();
+    let view = FrameView {
+        index: 0,
+        t: 0.0,
+        pos: &state.pos,
+        vel: &[],
+        angle: Some(&state.angle),
+        force: None,
+        trail: None,
+        traces: None,
+        compare: None,
+    };
+    let fast = Renderer::with_drawing(s, arrows, BodyDrawing::Sprites).draw(&view);
+    let paths = Renderer::with_drawing(s, arrows, BodyDrawing::Paths);
+    (fast, paths.draw(&view), paths.new_frame())
+}
+
 /// Returns the state after `steps` steps of the scene's integrator on a pool of
 /// `threads`.
 pub fn run(scene: &Scene, steps: u64, threads: usize) -> physframes::sim::State {

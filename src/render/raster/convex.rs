@@ -398,16 +398,9 @@ fn turned(
 ) {
     TURNED.with(|buffers| {
         let (scratch, [f, o, i]) = &mut *buffers.borrow_mut();
-        let mut place = |from: &[Point], to: &mut Vec<Point>| {
-            scratch.clear();
-            scratch.extend(from.iter().map(|&(x, y)| tiny_skia::Point::from_xy(x, y)));
-            at.map_points(scratch);
-            to.clear();
-            to.extend(scratch.iter().map(|p| (p.x, p.y)));
-        };
-        place(fill, f);
-        place(&ring.outer, o);
-        place(ring.inner.as_deref().unwrap_or(&[]), i);
+        super::place(at, fill, scratch, f);
+        super::place(at, &ring.outer, scratch, o);
+        super::place(at, ring.inner.as_deref().unwrap_or(&[]), scratch, i);
         // The fill, then the stroke over it.
         CONVEX.with(|c| {
             let c = &mut *c.borrow_mut();

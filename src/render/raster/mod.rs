@@ -162,25 +162,33 @@ fn outline(
 ) {
     OUTLINE.with(|buffers| {
         let (scratch, placed) = &mut *buffers.borrow_mut();
-        let mut place = |from: &[Point], to: &mut Vec<Point>| {
-            scratch.clear();
-            scratch.extend(from.iter().map(|&(x, y)| tiny_skia::Point::from_xy(x, y)));
-            at.map_points(scratch);
-            to.clear();
-            to.extend(scratch.iter().map(|p| (p.x, p.y)));
-        };
         if placed.len() < stroke.len() + 1 {
             placed.resize_with(stroke.len() + 1, Vec::new);
         }
         let (first, rest) = placed.split_at_mut(1);
-        place(fill, &mut first[0]);
+        place(at, fill, scratch, &mut first[0]);
         fill_polygons(pixmap, &[&first[0]], fill_ink);
         for (from, to) in stroke.iter().zip(rest.iter_mut()) {
-            place(from, to);
+            place(at, from, scratch, to);
         }
         let polygons: Vec<&[Point]> = rest[..stroke.len()].iter().map(|p| &p[..]).collect();
         fill_polygons(edge_pixmap.unwrap_or(pixmap), &polygons, edge_ink);
     });
+}
+
+/// Takes points through `at` by tiny-skia's own `Transform::map_points` (so that they
+/// are, bit for bit, the points tiny-skia would fill) into `to`, with `scratch` reused.
+pub(super) fn place(
+    at: tiny_skia::Transform,
+    from: &[Point],
+    scratch: &mut Vec<tiny_skia::Point>,
+    to: &mut Vec<Point>,
+) {
+    scratch.clear();
+    scratch.extend(from.iter().map(|&(x, y)| tiny_skia::Point::from_xy(x, y)));
+    at.map_points(scratch);
+    to.clear();
+    to.extend(scratch.iter().map(|p| (p.x, p.y)));
 }
 
 thread_local! {
