@@ -16,6 +16,8 @@
 //! damage is a superset of what was drawn, never a subset; a rectangle too large costs
 //! time, one too small would cost correctness, so the margins are generous.
 
+use tiny_skia::Pixmap;
+
 /// A rectangle of whole pixels, x0..x1 by y0..y1 (half-open), inside the frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PixelRect {
@@ -270,6 +272,36 @@ impl TileMask {
         for (a, b) in self.bits.iter_mut().zip(&other.bits) {
             *a |= b;
         }
+    }
+}
+
+/// Copies the pixels of the tiles `mask` marks from `from` into `to`, two pixmaps of
+/// the mask's size.
+pub(super) fn copy_tiles(to: &mut Pixmap, from: &Pixmap, mask: &TileMask) {
+    let stride = 4 * to.width() as usize;
+    let tile = 4 * TILE_PIXELS as usize;
+    let tiles = stride.div_ceil(tile);
+    let (from, to) = (from.data(), to.data_mut());
+    for y in 0..to.len() / stride.max(1) {
+        let row = mask.row(y);
+        let mut t = super::fastpng::next_bit(row, 0, true);
+        while t < tiles {
+            let end = super::fastpng::next_bit(row, t, false).min(tiles);
+            let (a, b) = (y * stride + t * tile, y * stride + (end * tile).min(stride));
+            to[a..b].copy_from_slice(&from[a..b]);
+            t = super::fastpng::next_bit(row, end, true);
+        }
+    }
+}
+
+/// Copies the pixels of `r` from `from` into `to`, two pixmaps of the same size.
+pub(super) fn copy_rect(to: &mut Pixmap, from: &Pixmap, r: PixelRect) {
+    let stride = 4 * to.width() as usize;
+    let (x0, x1) = (4 * r.x0 as usize, 4 * r.x1 as usize);
+    let (from, to) = (from.data(), to.data_mut());
+    for y in r.y0 as usize..r.y1 as usize {
+        let row = y * stride;
+        to[row + x0..row + x1].copy_from_slice(&from[row + x0..row + x1]);
     }
 }
 

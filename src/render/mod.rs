@@ -13,6 +13,7 @@
 //! body by body, and arrows and other turning outlines are filled by a scan converter
 //! without tiny-skia's set-up per path ([`raster`]).
 
+pub mod arrows;
 pub mod bodies;
 pub mod camera;
 pub mod clip;
@@ -41,9 +42,9 @@ pub use encode::{encode_png, encode_png_into, Compression, Provenance};
 
 use crate::history::PointHistory;
 use crate::scene::Scene;
-use bodies::{draw_arrow, draw_arrow_path};
+use arrows::{draw_arrow, draw_arrow_path};
 use clip::ClipRect;
-use damage::TileMask;
+use damage::{copy_rect, copy_tiles};
 use looks::Look;
 use trails::{SharedTrails, TrailFrame, TrailLayer, TrailStyle};
 
@@ -675,35 +676,5 @@ impl Renderer {
                 (None, None) => look.body.draw(pixmap, x, y),
             }
         }
-    }
-}
-
-/// Copies the pixels of the tiles `mask` marks from `from` into `to`, two pixmaps of
-/// the mask's size.
-fn copy_tiles(to: &mut Pixmap, from: &Pixmap, mask: &TileMask) {
-    let stride = 4 * to.width() as usize;
-    let tile = 4 * damage::TILE_PIXELS as usize;
-    let tiles = stride.div_ceil(tile);
-    let (from, to) = (from.data(), to.data_mut());
-    for y in 0..to.len() / stride.max(1) {
-        let row = mask.row(y);
-        let mut t = fastpng::next_bit(row, 0, true);
-        while t < tiles {
-            let end = fastpng::next_bit(row, t, false).min(tiles);
-            let (a, b) = (y * stride + t * tile, y * stride + (end * tile).min(stride));
-            to[a..b].copy_from_slice(&from[a..b]);
-            t = fastpng::next_bit(row, end, true);
-        }
-    }
-}
-
-/// Copies the pixels of `r` from `from` into `to`, two pixmaps of the same size.
-fn copy_rect(to: &mut Pixmap, from: &Pixmap, r: PixelRect) {
-    let stride = 4 * to.width() as usize;
-    let (x0, x1) = (4 * r.x0 as usize, 4 * r.x1 as usize);
-    let (from, to) = (from.data(), to.data_mut());
-    for y in r.y0 as usize..r.y1 as usize {
-        let row = y * stride;
-        to[row + x0..row + x1].copy_from_slice(&from[row + x0..row + x1]);
     }
 }

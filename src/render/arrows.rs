@@ -1,0 +1,130 @@
+//! Velocity and force arrows: a shaft and a head, drawn by the scan converter
+//! ([`super::raster`]) with tiny-skia's bytes inside the image, or as tiny-skia's paths
+//! (the reference they are tested against, and what hairlines use).
+
+use tiny_skia::{Color, FillRule, LineCap, Paint, PathBuilder, Pixmap, Stroke, Transform};
+
+use super::clip::ClipRect;
+use super::raster;
+use super::sprite::Ink;
+
+/// Where an arrow's parts lie in pixels: the shaft from its start to the head's base,
+/// and the head's tip and two back corners, each as tiny-skia receives it (f32).
+struct ArrowGeometry {
+    /// The shaft's ends, clipped to the guard band, or `None` when it lies outside.
+    shaft: Option<((f64, f64), (f64, f64))>,
+    /// The head's triangle, or `None` when its tip is outside the guard band.
+    head: Option<[(f32, f32); 3]>,
+}
+
+impl ArrowGeometry {
+    /// Lays out an arrow from pixel (x, y) along the pixel vector (dx, dy), with a head
+    /// whose size follows the stroke width but never exceeds half the arrow's length;
+    /// `None` when it is shorter than half a pixel or not finite.
+    fn new(clip: &ClipRect, (x, y): (f64, f64), (dx, dy): (f64, f64), width: f32) -> Option<Self> {
+        let len = (dx * dx + dy * dy).sqrt();
+        if len < 0.5 || !len.is_finite() {
+            return None;
+        }
+        let (ux, uy) = (dx / len, dy / len);
+        let head = (4.0 * f64::from(width) + 4.0).min(0.5 * len);
+        let base = (x + dx - ux * head, y + dy - uy * head);
+        let tip = (x + dx, y + dy);
+        let half = 0.5 * head;
+        Some(ArrowGeometry {
+            shaft: clip.segment((x, y), base),
+            head: clip.contains(tip.0, tip.1).then_some([
+                (tip.0 as f32, tip.1 as f32),
+                ((base.0 - uy * half) as f32, (base.1 + ux * half) as f32),
+                ((base.0 + uy * half) as f32, (base.1 - ux * half) as f32),
+            ]),
+        })
+    }
+}
+
+/// Draws an arrow from pixel (x, y) along the pixel vector (dx, dy), with a head whose
+/// size follows the stroke width but never exceeds half the arrow's length. The shaft
+/// is clipped to the guard band, and the head is drawn only when the tip is inside it.
+///
+/// The shaft (a stroke wider than a pixel, which tiny-skia fills as the rectangle its
+/// stroker builds) and the head (a triangle) are filled by [`raster`], which gives
+/// tiny-skia's bytes for the same points without its set-up per path: the pixels of
+/// [`draw_arrow_path`] inside the image, and within one quarter-pixel sample of them
+/// where an arrow crosses the image's edge (tested). Strokes of a pixel or less, which
+/// tiny-skia draws as hairlines, are drawn by [`draw_arrow_path`].
+pub fn draw_arrow(
+    pixmap: &mut Pixmap,
+    clip: &ClipRect,
+    at: (f64, f64),
+    d: (f64, f64),
+    c: Color,
+    width: f32,
+) {
+    if width <= 1.0 {
+        draw_arrow_path(pixmap, clip, at, d, c, width);
+        return;
+    }
+    let Some(arrow) = ArrowGeometry::new(clip, at, d, width) else {
+        return;
+    };
+    let ink = Ink::of(c);
+    if let Some((a, b)) = arrow.shaft {
+        let ends = ((a.0 as f32, a.1 as f32), (b.0 as f32, b.1 as f32));
+        if let Some(bar) = raster::bar(ends.0, ends.1, 0.5 * width) {
+            raster::fill_convex(pixmap, &bar, ink);
+        }
+    }
+    if let Some(head) = arrow.head {
+        raster::fill_convex(pixmap, &head, ink);
+    }
+}
+
+/// Draws an arrow as [`draw_arrow`] does, with tiny-skia's paths: a stroked shaft and
+/// a filled head. The reference for [`draw_arrow`], and what it uses for hairlines.
+pub fn draw_arrow_path(
+    pixmap: &mut Pixmap,
+    clip: &ClipRect,
+    at: (f64, f64),
+    d: (f64, f64),
+    c: Color,
+    width: f32,
+) {
+    let Some(arrow) = ArrowGeometry::new(clip, at, d, width) else {
+        return;
+    };
+    let mut paint = Paint {
+        anti_alias: true,
+        ..Paint::default()
+    };
+    paint.set_color(c);
+    if let Some((a, b)) = arrow.shaft {
+        let mut pb = PathBuilder::new();
+        pb.move_to(a.0 as f32, a.1 as f32);
+        pb.line_to(b.0 as f32, b.1 as f32);
+        let stroke = Stroke {
+            width,
+            line_cap: LineCap::Butt,
+            ..Stroke::default()
+        };
+        if let Some(shaft) = pb.finish() {
+            pixmap.stroke_path(&shaft, &paint, &stroke, Transform::identity(), None);
+        }
+    }
+    let Some([tip, left, right]) = arrow.head else {
+        return;
+    };
+    let mut pb = PathBuilder::new();
+    pb.move_to(tip.0, tip.1);
+    pb.line_to(left.0, left.1);
+    pb.line_to(right.0, right.1);
+    pb.close();
+    if let Some(path) = pb.finish() {
+        pixmap.fill_path(
+            &path,
+            &paint,
+            FillRule::Winding,
+            Transform::identity(),
+            None,
+        );
+    }
+}
