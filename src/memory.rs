@@ -7,7 +7,8 @@
 //! and shared by the frames queued between the simulation and the threads (each holds a
 //! pointer and a length, whatever its index), and each thread's trail layer: the static
 //! layer with the trails over it, and 5 bytes a pixel of what holds each pixel, and once
-//! more those 5 bytes a pixel for the rasterisation the threads share. When that exceeds
+//! more those 5 bytes a pixel for the rasterisation the threads share, with the changed
+//! pixels it keeps for them (at most 64 MiB). When that exceeds
 //! the memory available, physframes refuses to start and says what would fit.
 //!
 //! The memory available is `MemAvailable` from `/proc/meminfo` on Linux, lowered to a
@@ -46,9 +47,14 @@ impl Estimate {
         };
         // A thread's trail layer: a frame, a coverage byte and a 4-byte colour a pixel;
         // and the same bytes a pixel once more for the segments rasterised once for all
-        // threads (`render::trails::SharedTrails`).
+        // threads (`render::trails::SharedTrails`), with the frames' changed pixels it
+        // keeps for the threads, at most `MAX_KEPT_BYTES`.
         let layer = if r.trails { frame + frame / 4 * 5 } else { 0 };
-        let shared = if r.trails { frame / 4 * 5 } else { 0 };
+        let shared = if r.trails {
+            frame / 4 * 5 + crate::render::trails::MAX_KEPT_BYTES as u64
+        } else {
+            0
+        };
         Estimate {
             frame,
             fixed: frame + trails + shared,
@@ -194,6 +200,11 @@ mod tests {
         assert_eq!(plan_threads(&s, 4, None).ok(), Some(4));
     }
 
+    /// The most bytes of changed trail pixels kept for the threads.
+    fn kept_trail_pixels() -> u64 {
+        crate::render::trails::MAX_KEPT_BYTES as u64
+    }
+
     #[test]
     fn trails_are_counted_once_however_many_threads_draw() {
         let text = "[simulation]\nduration = 100.0\n[render]\nwidth = 64\nheight = 48\nfps = 30\ntrails = true\nview = { min = [0.0, 0.0], max = [1.0, 1.0] }\n[[body]]\nname = \"a\"\nmass = 1.0\n[[body]]\nname = \"b\"\nmass = 1.0\n";
@@ -211,7 +222,7 @@ mod tests {
         assert!(slot <= 24, "a slot takes {slot} bytes");
         assert_eq!(
             e.fixed,
-            64 * 48 * 4 + frames * (2 * 16 + 16 + 48) + 64 * 48 * 5
+            64 * 48 * 4 + frames * (2 * 16 + 16 + 48) + 64 * 48 * 5 + kept_trail_pixels()
         );
     }
 

@@ -325,15 +325,32 @@ struct Shared {
     pixels: std::collections::VecDeque<FramePixels>,
     /// How many frames each worker's layer holds.
     reached: Vec<usize>,
+    /// The bytes of the kept pixels, and the most that are kept.
+    kept: usize,
+    limit: usize,
 }
+
+/// The most bytes of frames' changed pixels [`SharedTrails`] keeps: 64 MiB, about 1600
+/// frames of 1000 trails' segments at 1280 × 720.
+pub const MAX_KEPT_BYTES: usize = 64 << 20;
 
 impl SharedTrails {
     /// Shared trails for a render of `workers` workers, numbered from 0: a frame's
     /// pixels are kept until each of them has passed it.
     pub fn new(workers: usize) -> Self {
+        Self::keeping(workers, MAX_KEPT_BYTES)
+    }
+
+    /// Like [`SharedTrails::new`], keeping at most `bytes` of frames' pixels: past
+    /// that the oldest are forgotten, and a worker that still needed them (one that
+    /// has not drawn yet while the producer rasterised many frames ahead, as in a
+    /// render resumed or sharded late) rasterises its layer on its own, as before
+    /// sharing. The bytes of the frames do not depend on it.
+    pub fn keeping(workers: usize, bytes: usize) -> Self {
         SharedTrails {
             state: Mutex::new(Shared {
                 reached: vec![0; workers.max(1)],
+                limit: bytes,
                 ..Shared::default()
             }),
         }
@@ -348,8 +365,7 @@ impl SharedTrails {
         }
         let passed = s.reached.iter().copied().min().unwrap_or(0);
         while s.first < passed && !s.pixels.is_empty() {
-            s.pixels.pop_front();
-            s.first += 1;
+            s.forget_oldest();
         }
     }
 
@@ -366,6 +382,10 @@ impl SharedTrails {
             return None;
         }
         s.advance(history, drawing);
+        // Rasterising may have forgotten the oldest frames to keep within the limit.
+        if from < s.first {
+            return None;
+        }
         let (start, end) = (from - s.first, history.len() - s.first);
         Some(s.pixels.range(start..end).cloned().collect())
     }
@@ -403,8 +423,20 @@ impl Shared {
                     |p, rgba| changed.push((p as u32, rgba)),
                 );
             }
+            self.kept += std::mem::size_of_val(&changed[..]);
             self.pixels.push_back(Arc::from(changed));
             self.frames += 1;
+            while self.kept > self.limit && !self.pixels.is_empty() {
+                self.forget_oldest();
+            }
+        }
+    }
+
+    /// Forgets the pixels of the oldest frame kept.
+    fn forget_oldest(&mut self) {
+        if let Some(pixels) = self.pixels.pop_front() {
+            self.kept -= std::mem::size_of_val(&pixels[..]);
+            self.first += 1;
         }
     }
 }

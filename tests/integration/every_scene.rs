@@ -636,12 +636,29 @@ fn workers_sharing_one_rasterisation_of_the_trails_draw_the_frames_of_a_layer_on
     // to need them for the others. Two workers drawing alternate frames, and one
     // jumping ahead, must each give the pixels of a layer that rasterised every frame
     // itself; a worker sent back to an earlier frame (another render) starts again on
-    // its own.
-    use physframes::render::trails::{SharedTrails, TrailFrame};
+    // its own. The same when the shared pixels are kept within a limit (none, or a
+    // few frames' worth), so that a worker finds the frames it needs forgotten and
+    // goes on on its own.
+    use physframes::render::trails::SharedTrails;
+    let (s, renderer, history) = trail_scene(40, 30);
+    for limit in [usize::MAX, 0, 3000] {
+        workers_sharing(&s, &renderer, &history, SharedTrails::keeping(2, limit));
+    }
+    workers_sharing(&s, &renderer, &history, SharedTrails::new(2));
+}
+
+/// The frames of two workers sharing `shared`, one jumping, against a layer on its
+/// own (`workers_sharing_one_rasterisation_…`).
+fn workers_sharing(
+    s: &physframes::scene::Scene,
+    renderer: &physframes::render::Renderer,
+    history: &[physframes::history::PointHistory],
+    shared: physframes::render::trails::SharedTrails,
+) {
+    use physframes::render::trails::TrailFrame;
     use physframes::render::FrameView;
     use std::sync::Arc;
-    let (s, renderer, history) = trail_scene(40, 30);
-    let shared = Arc::new(SharedTrails::new(2));
+    let shared = Arc::new(shared);
     let (w, h) = (s.render.width, s.render.height);
     let mut workers = [
         (
@@ -676,7 +693,7 @@ fn workers_sharing_one_rasterisation_of_the_trails_draw_the_frames_of_a_layer_on
             // The producer rasterises ahead, as in a render.
             renderer.rasterise_trails(&shared, &history[(k + 3).min(29)]);
         }
-        let expected = draw_trail_frame(&renderer, &s, &history, k, &mut alone);
+        let expected = draw_trail_frame(renderer, s, history, k, &mut alone);
         let worker = if k % 2 == 0 {
             Some(0)
         } else if k % 6 == 1 {
@@ -693,7 +710,7 @@ fn workers_sharing_one_rasterisation_of_the_trails_draw_the_frames_of_a_layer_on
             );
         }
     }
-    let expected = draw_trail_frame(&renderer, &s, &history, 4, &mut None);
+    let expected = draw_trail_frame(renderer, s, history, 4, &mut None);
     let (state, pixmap) = &mut workers[0];
     let back = frame(4, state, pixmap);
     assert!(
