@@ -10,6 +10,9 @@
 //! `PHYSFRAMES_FUZZ_CASES=200000 cargo test --release --test integration mutations`.
 //! The mutations come from a fixed seed, so that CI tries the same cases on every run;
 //! `PHYSFRAMES_FUZZ_SEED=N` tries others (a failure prints the seed it ran with).
+//! `PHYSFRAMES_FUZZ_LOG=1` names each case before it runs: a case that aborts the
+//! process (an allocation refused under `ulimit -v`) prints nothing of its own, and
+//! the last case named is the one.
 
 use std::path::{Path, PathBuf};
 
@@ -418,7 +421,13 @@ fn mutated_scenes_are_refused_or_drawn_and_never_leave_frames_behind_an_error() 
         ..Config::default()
     });
     let strategy = (0..seeds.len(), prop::collection::vec(mutation(), 1..4));
+    // With PHYSFRAMES_FUZZ_LOG set, each case is named before it runs, so that a case
+    // that aborts the process (an allocation refused under `ulimit -v`) can be found.
+    let log = std::env::var_os("PHYSFRAMES_FUZZ_LOG").is_some();
     let result = runner.run(&strategy, |(seed, mutations)| {
+        if log {
+            eprintln!("case: {} {mutations:?}", seeds[seed].0.display());
+        }
         let text = mutate(&seeds[seed].1, &mutations);
         let case_started = std::time::Instant::now();
         let kind = holds(&text).map_err(|e| {
