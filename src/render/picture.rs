@@ -22,7 +22,7 @@ use std::sync::Arc;
 use tiny_skia::Pixmap;
 
 use super::bodies::BodyLook;
-use super::sprite::{drawn_bounds, snap_to, PHASES};
+use super::sprite::{snap_to, trim, PHASES};
 
 /// A look drawn whole at every phase, premultiplied.
 #[derive(Debug)]
@@ -130,7 +130,7 @@ impl Picture {
             let d = pixmap.data();
             [d[k], d[k + 1], d[k + 2], d[k + 3]]
         };
-        let Some((x0, y0, x1, y1)) = drawn_bounds(w, h, |x, y| at(x, y)[3] != 0) else {
+        let Some((x0, y0, width, height, rgba)) = trim(w, h, at, |p| p[3] != 0) else {
             return Picture {
                 dx,
                 dy,
@@ -139,15 +139,11 @@ impl Picture {
                 rgba: Vec::new(),
             };
         };
-        let mut rgba = Vec::with_capacity((x1 - x0) * (y1 - y0));
-        for y in y0..y1 {
-            rgba.extend((x0..x1).map(|x| at(x, y)));
-        }
         Picture {
             dx: dx + x0 as i32,
             dy: dy + y0 as i32,
-            width: x1 - x0,
-            height: y1 - y0,
+            width,
+            height,
             rgba,
         }
     }

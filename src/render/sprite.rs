@@ -212,18 +212,20 @@ pub(crate) fn snap_to(x: f32, phases: u32) -> (i64, u32) {
     (q.div_euclid(p), q.rem_euclid(p) as u32)
 }
 
-/// Returns the smallest rectangle, columns x0..x1 and rows y0..y1 as (x0, y0, x1,
-/// y1), holding every pixel of a `width` × `height` pixmap for which `drawn` is true,
-/// or `None` when there is none.
-pub(crate) fn drawn_bounds(
+/// What a sprite or a picture keeps of a `width` × `height` pixmap: the smallest
+/// rectangle holding every pixel whose value `at(x, y)` is `drawn`, as its top-left
+/// pixel (x0, y0), its width and height, and its values row after row; `None` when no
+/// pixel is drawn.
+pub(crate) fn trim<T>(
     width: usize,
     height: usize,
-    drawn: impl Fn(usize, usize) -> bool,
-) -> Option<(usize, usize, usize, usize)> {
+    at: impl Fn(usize, usize) -> T,
+    drawn: impl Fn(&T) -> bool,
+) -> Option<(usize, usize, usize, usize, Vec<T>)> {
     let (mut x0, mut y0, mut x1, mut y1) = (width, height, 0, 0);
     for y in 0..height {
         for x in 0..width {
-            if drawn(x, y) {
+            if drawn(&at(x, y)) {
                 x0 = x0.min(x);
                 y0 = y0.min(y);
                 x1 = x1.max(x + 1);
@@ -231,7 +233,14 @@ pub(crate) fn drawn_bounds(
             }
         }
     }
-    (x0 < x1).then_some((x0, y0, x1, y1))
+    if x0 >= x1 {
+        return None;
+    }
+    let mut kept = Vec::with_capacity((x1 - x0) * (y1 - y0));
+    for y in y0..y1 {
+        kept.extend((x0..x1).map(|x| at(x, y)));
+    }
+    Some((x0, y0, x1 - x0, y1 - y0, kept))
 }
 
 impl Sprite {
@@ -244,7 +253,7 @@ impl Sprite {
             let k = 4 * (y * w + x) + 3;
             [fill.data()[k], edge.data()[k]]
         };
-        let Some((x0, y0, x1, y1)) = drawn_bounds(w, h, |x, y| coverage(x, y) != [0, 0]) else {
+        let Some((x0, y0, width, height, coverage)) = trim(w, h, coverage, |c| *c != [0, 0]) else {
             return Sprite {
                 dx,
                 dy,
@@ -253,16 +262,12 @@ impl Sprite {
                 coverage: Vec::new(),
             };
         };
-        let mut kept = Vec::with_capacity((x1 - x0) * (y1 - y0));
-        for y in y0..y1 {
-            kept.extend((x0..x1).map(|x| coverage(x, y)));
-        }
         Sprite {
             dx: dx + x0 as i32,
             dy: dy + y0 as i32,
-            width: x1 - x0,
-            height: y1 - y0,
-            coverage: kept,
+            width,
+            height,
+            coverage,
         }
     }
 

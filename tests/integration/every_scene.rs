@@ -130,6 +130,41 @@ fn over_angles(
     (largest, count, covered)
 }
 
+/// Draws a body of `shape` that never turns, at each of `angles` and at sub-pixel
+/// positions over a light background, through the scan converter and as tiny-skia's
+/// paths, and returns the largest channel difference, how many pixels differ, and how
+/// many pixels the paths cover.
+fn fixed_angle_difference(shape: &physframes::scene::Shape, angles: &[f64]) -> (u8, usize, usize) {
+    use physframes::render::bodies::BodyLook;
+    let camera = camera_16_by_9();
+    let s = crate::util::scene(
+        "[render]\nview = { min = [0.0, 0.0], max = [16.0, 9.0] }\n[[body]]\nmass = 1.0\n",
+    );
+    let (mut largest, mut count, mut covered) = (0, 0, 0);
+    for (k, &angle) in angles.iter().enumerate() {
+        let mut body = s.bodies[0].clone();
+        body.shape = shape.clone();
+        body.turns = false;
+        body.angle = angle;
+        let look = BodyLook::new(&body, &camera);
+        assert!(look.draws_fast(), "{shape:?} at {angle} rad");
+        assert!(!look.turns_fast());
+        let x = 40.0 + (k % 10) as f32 * 0.113;
+        let y = 40.0 + (k / 10 % 10) as f32 * 0.171;
+        let mut ours = Pixmap::new(80, 80).expect("pixmap");
+        ours.fill(Color::from_rgba8(250, 248, 240, 255));
+        let mut theirs = ours.clone();
+        let background = ours.clone();
+        look.draw_fast(&mut ours, x, y);
+        look.draw(&mut theirs, x, y);
+        let (l, c) = diff(&ours, &theirs);
+        largest = largest.max(l);
+        count += c;
+        covered += diff(&theirs, &background).1;
+    }
+    (largest, count, covered)
+}
+
 #[test]
 fn boxes_and_convex_polygons_at_fixed_angles_from_the_scan_converter_look_like_their_paths() {
     // Bodies that never turn but are not stamped (boxes of many sizes, or each at an
@@ -137,12 +172,7 @@ fn boxes_and_convex_polygons_at_fixed_angles_from_the_scan_converter_look_like_t
     // fixed angle, with the same bounds: the fill is tiny-skia's, the stroke differs
     // by a sample or two of 16 in a corner pixel.
     use glam::DVec2;
-    use physframes::render::bodies::BodyLook;
     use physframes::scene::Shape;
-    let camera = camera_16_by_9();
-    let s = crate::util::scene(
-        "[render]\nview = { min = [0.0, 0.0], max = [16.0, 9.0] }\n[[body]]\nmass = 1.0\n",
-    );
     let shapes = [
         Shape::Box {
             width: 0.16,
@@ -161,33 +191,17 @@ fn boxes_and_convex_polygons_at_fixed_angles_from_the_scan_converter_look_like_t
         },
     ];
     for shape in shapes {
-        let (mut largest, mut count, mut covered) = (0, 0, 0);
-        for k in 0..200u32 {
-            let mut body = s.bodies[0].clone();
-            body.shape = shape.clone();
-            body.turns = false;
-            // Angle 0 too: an upright box is a rectangle path, not a turned polygon.
-            body.angle = if k == 0 {
-                0.0
-            } else {
-                f64::from(k) * 0.0313 - 3.1
-            };
-            let look = BodyLook::new(&body, &camera);
-            assert!(look.draws_fast(), "{shape:?} at {} rad", body.angle);
-            assert!(!look.turns_fast());
-            let x = 40.0 + (k % 10) as f32 * 0.113;
-            let y = 40.0 + (k / 10 % 10) as f32 * 0.171;
-            let mut ours = Pixmap::new(80, 80).expect("pixmap");
-            ours.fill(Color::from_rgba8(250, 248, 240, 255));
-            let mut theirs = ours.clone();
-            let background = ours.clone();
-            look.draw_fast(&mut ours, x, y);
-            look.draw(&mut theirs, x, y);
-            let (l, c) = diff(&ours, &theirs);
-            largest = largest.max(l);
-            count += c;
-            covered += diff(&theirs, &background).1;
-        }
+        // Angle 0 too: an upright box is a rectangle path, not a turned polygon.
+        let angles: Vec<f64> = (0..200u32)
+            .map(|k| {
+                if k == 0 {
+                    0.0
+                } else {
+                    f64::from(k) * 0.0313 - 3.1
+                }
+            })
+            .collect();
+        let (largest, count, covered) = fixed_angle_difference(&shape, &angles);
         eprintln!(
             "{shape:?} at fixed angles: {count} of {covered} covered pixels differ, by {largest}/255 at most"
         );
@@ -254,29 +268,8 @@ fn polygons_that_are_not_convex_from_the_general_scan_look_like_their_paths() {
             "{shape:?}: {count} of {covered} pixels differ"
         );
         // At fixed angles of their own, the same way.
-        let (mut largest, mut count, mut covered) = (0, 0, 0);
-        for k in 0..100u32 {
-            let mut body = s.bodies[0].clone();
-            body.shape = shape.clone();
-            body.turns = false;
-            body.angle = f64::from(k) * 0.0627 - 3.1;
-            let look = BodyLook::new(&body, &camera);
-            assert!(look.draws_fast());
-            let (x, y) = (
-                40.0 + (k % 10) as f32 * 0.113,
-                40.0 + (k / 10) as f32 * 0.171,
-            );
-            let mut ours = Pixmap::new(80, 80).expect("pixmap");
-            ours.fill(Color::from_rgba8(250, 248, 240, 255));
-            let mut theirs = ours.clone();
-            let background = ours.clone();
-            look.draw_fast(&mut ours, x, y);
-            look.draw(&mut theirs, x, y);
-            let (l, c) = diff(&ours, &theirs);
-            largest = largest.max(l);
-            count += c;
-            covered += diff(&theirs, &background).1;
-        }
+        let angles: Vec<f64> = (0..100u32).map(|k| f64::from(k) * 0.0627 - 3.1).collect();
+        let (largest, count, covered) = fixed_angle_difference(&shape, &angles);
         eprintln!("{shape:?} at fixed angles: {count} of {covered} covered pixels differ, by {largest}/255 at most");
         assert!(largest <= 32, "{shape:?}: largest difference {largest}/255");
         assert!(
