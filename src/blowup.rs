@@ -3,9 +3,9 @@
 //! when, and what to change. The render pipeline, checkpoints, export, figures and
 //! benchmarks all report a blow-up through [`blow_up_message`]; none of them owns it.
 
-use crate::numbers::Readable;
+use crate::numbers::{about, Readable};
 use crate::scene::Scene;
-use crate::sim::contacts::IMPACTS_PER_BODY;
+use crate::sim::contacts::{Beyond, DEFAULT_SLOP, IMPACTS_PER_BODY, PAIRS_PER_BODY};
 use crate::sim::{BlowUp, Simulation, MAX_ADAPTIVE_STEPS_PER_ADVANCE, STIFF};
 use crate::study::stability::stable_step_hint;
 
@@ -58,6 +58,7 @@ impl EnergyWatch {
             t: s.t,
             quantity: ENERGY,
             overlap: None,
+            unanswerable: None,
         })
     }
 }
@@ -76,6 +77,36 @@ pub fn blow_up_message(scene: &Scene, b: &BlowUp) -> String {
             Readable(scene.simulation.tolerances.rtol),
             Readable(scene.simulation.tolerances.atol)
         );
+    }
+    if let Some(u) = b.unanswerable {
+        let name = &scene.bodies[u.body].name;
+        let dt = Readable(scene.simulation.dt);
+        return match u.why {
+            Beyond::Precision {
+                coordinate,
+                spacing,
+                angle,
+            } => {
+                let (what, unit, slop) = if angle {
+                    ("an angle of", "rad", format!("{DEFAULT_SLOP} rad"))
+                } else {
+                    ("a coordinate of", "m", format!("{DEFAULT_SLOP} of its size"))
+                };
+                format!(
+                    "the simulation stopped: body `{name}` reached {what} {} {unit} at step {} (t = {}), where f64 numbers lie {} {unit} apart, more than its contact slop ({slop}): its contacts can no longer be resolved; integrator {integrator}, dt = {dt}\nhint: a speed far larger than the scene's sent it there: check body `{name}`'s velocity and angular velocity, or leave it out of [contacts]",
+                    about(coordinate),
+                    b.step,
+                    Readable(b.t),
+                    about(spacing),
+                )
+            }
+            Beyond::Pairs { distance, budget } => format!(
+                "the simulation stopped: body `{name}` moved {} m in step {} (t = {}), and the paths of that step crossed more than {budget} pairs of bodies ({PAIRS_PER_BODY} per colliding body), past what a step answers; integrator {integrator}, dt = {dt}\nhint: give `{name}` (and any body as fast) a lower speed, or take a smaller dt, so that no body moves much more than its own size in a step",
+                about(distance),
+                b.step,
+                Readable(b.t),
+            ),
+        };
     }
     if let Some(o) = b.overlap.filter(|o| o.crowded) {
         return format!(
@@ -153,6 +184,7 @@ shape = { circle = { radius = 0.5 } }
                 depth: 0.25,
                 crowded,
             }),
+            unanswerable: None,
         }
     }
 

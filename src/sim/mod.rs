@@ -29,6 +29,8 @@ pub use contacts::{ContactEvent, Contacts};
 pub use forces::{Anchor, ForceSpec, Selection};
 pub use integrators::{Integrator, IntegratorKind, Stepper, Tolerances};
 pub use scalar_ode::ScalarMethod;
-pub use simulation::{BlowUp, Simulation, MAX_ADAPTIVE_STEPS_PER_ADVANCE, OVERLAP, STIFF};
+pub use simulation::{
+    BlowUp, Simulation, MAX_ADAPTIVE_STEPS_PER_ADVANCE, OVERLAP, STIFF, UNANSWERABLE,
+};
 pub use state::{Coords, State};
 pub use system::System;

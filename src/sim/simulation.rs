@@ -4,7 +4,7 @@ use std::fmt;
 
 use glam::DVec2;
 
-use super::contacts::{ContactEvent, Contacts, Overlap};
+use super::contacts::{ContactEvent, Contacts, Overlap, Stop, Unanswerable};
 use super::integrators::{StepController, Tolerances};
 use super::state::Coords;
 use super::{IntegratorKind, State, Stepper, System};
@@ -21,6 +21,10 @@ pub const STIFF: &str = "adaptive step size";
 /// contact tolerance after a step (see [`BlowUp::overlap`]).
 pub const OVERLAP: &str = "overlap";
 
+/// The `quantity` of a [`BlowUp`] that is a body whose contacts a step cannot answer
+/// (see [`BlowUp::unanswerable`]).
+pub const UNANSWERABLE: &str = "contacts";
+
 /// A simulation whose state stopped being finite.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BlowUp {
@@ -31,10 +35,12 @@ pub struct BlowUp {
     /// The simulated time at the end of that step.
     pub t: f64,
     /// The quantity that stopped being finite: "position", "velocity", "angle" or
-    /// "angular velocity"; or [`STIFF`], or [`OVERLAP`].
+    /// "angular velocity"; or [`STIFF`], [`OVERLAP`] or [`UNANSWERABLE`].
     pub quantity: &'static str,
     /// For [`OVERLAP`]: the two bodies and how deep they overlap.
     pub overlap: Option<Overlap>,
+    /// For [`UNANSWERABLE`]: the body and why.
+    pub unanswerable: Option<Unanswerable>,
 }
 
 impl fmt::Display for BlowUp {
@@ -44,6 +50,13 @@ impl fmt::Display for BlowUp {
                 f,
                 "bodies #{} and #{} overlap by {:e} after step {} (t = {})",
                 o.a, o.b, o.depth, self.step, self.t
+            );
+        }
+        if let Some(u) = self.unanswerable {
+            return write!(
+                f,
+                "the contacts of body #{} cannot be answered at step {} (t = {}): {:?}",
+                u.body, self.step, self.t, u.why
             );
         }
         if self.quantity == STIFF {
@@ -412,12 +425,21 @@ impl Simulation {
                 self.system.record_finite_step(&self.state.pos, false);
                 self.check_finite()
             }
-            Err(o) => Err(BlowUp {
+            Err(Stop::Overlap(o)) => Err(BlowUp {
                 body: o.a,
                 step: self.steps,
                 t: t_end,
                 quantity: OVERLAP,
                 overlap: Some(o),
+                unanswerable: None,
+            }),
+            Err(Stop::Unanswerable(u)) => Err(BlowUp {
+                body: u.body,
+                step: self.steps,
+                t: t_end,
+                quantity: UNANSWERABLE,
+                overlap: None,
+                unanswerable: Some(u),
             }),
         }
     }
@@ -483,6 +505,7 @@ impl Simulation {
                         t: self.state.t,
                         quantity: STIFF,
                         overlap: None,
+                        unanswerable: None,
                     });
                 }
             }
@@ -581,6 +604,7 @@ impl Simulation {
                 t: s.t,
                 quantity,
                 overlap: None,
+                unanswerable: None,
             });
         }
         // Finite terms can overflow when summed; that is not a blow-up of any body.

@@ -20,6 +20,7 @@ mod resting;
 mod resume;
 mod rotation;
 mod run_length;
+mod runaway;
 mod shards;
 mod sleep;
 mod studies;

@@ -26,13 +26,19 @@ pub struct BroadPhase {
 
 impl BroadPhase {
     /// Builds the tree over the given swept boxes, one per collider, and writes every
-    /// pair (i, j), i < j, whose boxes overlap into `pairs`, sorted.
+    /// pair (i, j), i < j, whose boxes overlap into `pairs`, sorted; or returns false,
+    /// with `pairs` incomplete, when there are more than `budget` such pairs.
     ///
     /// The tree is built once and then kept: each step moves its leaves to their new
     /// boxes, refits the nodes above them and lets parry improve the tree a little
     /// (Rapier's way), which costs far less than building it afresh; a change in the
     /// number of boxes builds it again.
-    pub fn build(&mut self, boxes: impl Iterator<Item = Aabb>, pairs: &mut Vec<(u32, u32)>) {
+    pub fn build(
+        &mut self,
+        boxes: impl Iterator<Item = Aabb>,
+        pairs: &mut Vec<(u32, u32)>,
+        budget: usize,
+    ) -> bool {
         self.boxes.clear();
         self.boxes.extend(boxes);
         if self.tree.leaf_count() as usize != self.boxes.len() {
@@ -45,11 +51,18 @@ impl BroadPhase {
             self.tree.optimize_incremental(&mut self.workspace);
         }
         pairs.clear();
+        // The traversal cannot be stopped, but past the budget it only counts.
+        let mut over = false;
         self.tree
             .traverse_bvtt_single_tree::<false>(&mut self.workspace, &mut |i, j| {
-                pairs.push((i.min(j), i.max(j)));
+                if pairs.len() < budget {
+                    pairs.push((i.min(j), i.max(j)));
+                } else {
+                    over = true;
+                }
             });
         pairs.sort_unstable();
+        !over
     }
 
     /// Builds the tree over the given boxes, one per collider, without listing its

@@ -69,6 +69,20 @@ use response::Inverse;
 /// one impact per body per step.
 pub const IMPACTS_PER_BODY: usize = 8;
 
+/// Candidate pairs in one step (pairs of bodies whose swept boxes overlap, found by
+/// the broad phase and again for every struck body), per colliding body, past which
+/// the step stops and the run with it ([`Unanswerable`]). A pile meets about 3 per
+/// body, and a pour whose impacts ran out of their budget 90: each impact asks again
+/// for the neighbours of two bodies, about ten. A body that crosses the whole scene in
+/// one step meets every other body at each of its impacts, and without this budget a
+/// hostile speed asks for gigabytes of pairs.
+pub const PAIRS_PER_BODY: usize = 256;
+
+/// Candidate pairs every step may meet whatever its number of bodies, so that a small
+/// scene's impact cascade (`IMPACTS_PER_BODY` per body plus 1,000) is never cut short
+/// by the budget of pairs.
+pub const PAIRS_PER_STEP: usize = 65_536;
+
 /// The default contact tolerance as a fraction of the smaller body's size (its least
 /// width): two bodies closer than this count as touching.
 pub const DEFAULT_TOLERANCE: f64 = 1e-6;
@@ -173,6 +187,43 @@ pub struct Overlap {
     /// stopped answering them: a crowd struck faster than impulses one pair at a time
     /// can settle, rather than a step too long for the contacts.
     pub crowded: bool,
+}
+
+/// A body whose contacts a step cannot answer, and why: the run stops there rather
+/// than give a wrong answer or spend without bound.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Unanswerable {
+    /// The scene's index of the body.
+    pub body: usize,
+    pub why: Beyond,
+}
+
+/// Why a body's contacts cannot be answered.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Beyond {
+    /// Its position (or angle) is so large that neighbouring f64 values there lie
+    /// further apart than its resting slop (`DEFAULT_SLOP` of its size, or
+    /// `DEFAULT_SLOP` radians), the finest distance contacts are asked to keep:
+    /// `coordinate` is the largest of |x|, |y| (or |angle| in radians, when `angle`)
+    /// at the step's start or end.
+    Precision {
+        coordinate: f64,
+        spacing: f64,
+        angle: bool,
+    },
+    /// The step met more candidate pairs than its budget (`PAIRS_PER_BODY` per body
+    /// plus `PAIRS_PER_STEP`): the body's path is the longest in the step,
+    /// `distance` long, and the paths cross too many others.
+    Pairs { distance: f64, budget: usize },
+}
+
+/// What stops a step's contacts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Stop {
+    /// Two bodies left overlapping deeper than allowed.
+    Overlap(Overlap),
+    /// A body whose contacts cannot be answered.
+    Unanswerable(Unanswerable),
 }
 
 /// The colliding bodies of a scene and the stages' reusable buffers.

@@ -15,7 +15,10 @@ use super::response::{closes, collide, normal_velocity, strike_point, Inverse, S
 use super::sleep::{hold_all, hold_or_wake, settle, Islands};
 use super::solver::{self, effective_mass, Manifold, Point, Velocities};
 use super::toi::{time_of_impact, Path};
-use super::{inverse, ContactEvent, Contacts, Overlap, IMPACTS_PER_BODY};
+use super::{
+    inverse, Beyond, ContactEvent, Contacts, Overlap, Stop, Unanswerable, DEFAULT_SLOP,
+    IMPACTS_PER_BODY, PAIRS_PER_BODY, PAIRS_PER_STEP,
+};
 use crate::sim::{State, System};
 
 /// Sweeps over the contacts that collide at the step's end before the step leaves the
@@ -42,6 +45,8 @@ pub(super) struct Scratch {
     boxes: Vec<Aabb>,
     pairs: Vec<(u32, u32)>,
     found: Vec<(u32, u32)>,
+    /// Candidate pairs the step may still meet (see `PAIRS_PER_BODY`).
+    pairs_left: usize,
     heap: BinaryHeap<Reverse<Event>>,
     pub(super) broad: BroadPhase,
     query: Vec<u32>,
@@ -68,7 +73,8 @@ struct Event {
 impl Contacts {
     /// Resolves the contacts of one step that took the bodies from `start` (at t0) to
     /// `end` (at t1), changing `end` where impulses act, and returns whether anything
-    /// changed; or the deepest overlap left.
+    /// changed; or the deepest overlap left, or the body whose contacts cannot be
+    /// answered.
     pub fn resolve(
         &mut self,
         system: &System,
@@ -76,7 +82,7 @@ impl Contacts {
         end: &mut State,
         t0: f64,
         t1: f64,
-    ) -> Result<bool, Overlap> {
+    ) -> Result<bool, Stop> {
         if self.colliders.len() < 2 {
             return Ok(false);
         }
@@ -157,6 +163,17 @@ impl Contacts {
             });
         }
         let fixed = |inv: &[Inverse], i: usize| immovable(&inv[i]);
+        // A moving body so far out that f64 cannot place it to within its slop has
+        // contacts no stage can answer (and the times of impact of paths 10^16 m
+        // long would take seconds each): the run stops and names it.
+        for (k, c) in colliders.iter().enumerate() {
+            if fixed(&s.inv, k) {
+                continue;
+            }
+            if let Some(why) = beyond_precision(&s.paths[k], c.size, spins) {
+                return Err(Stop::Unanswerable(Unanswerable { body: c.body, why }));
+            }
+        }
         s.version.clear();
         s.version.resize(n, 0);
         s.changed.clear();
@@ -170,7 +187,11 @@ impl Contacts {
         for (k, c) in colliders.iter().enumerate() {
             s.boxes.push(swept_box(c, &s.paths[k], margin(k)));
         }
-        s.broad.build(s.boxes.iter().copied(), &mut s.pairs);
+        let budget = PAIRS_PER_BODY * n + PAIRS_PER_STEP;
+        if !s.broad.build(s.boxes.iter().copied(), &mut s.pairs, budget) {
+            return Err(longest_path(colliders, start, end, budget));
+        }
+        s.pairs_left = budget - s.pairs.len();
         // Sleeping bodies that nothing awake and moving comes near are held where they
         // are, as static bodies for this step; the others wake (`sleep.rs`).
         let mut changed = false;
@@ -312,7 +333,9 @@ impl Contacts {
                     continue;
                 }
                 s.version[k] += 1;
-                requery(k, lambda, colliders, s, &margin, &tol, rest);
+                if !requery(k, lambda, colliders, s, &margin, &tol, rest) {
+                    return Err(longest_path(colliders, start, end, budget));
+                }
             }
         }
 
@@ -376,7 +399,7 @@ impl Contacts {
             s.touching.push((i, j, ct));
         }
         if let Some(d) = deepest {
-            return Err(d);
+            return Err(Stop::Overlap(d));
         }
         // 4a. Collisions at the step's end, pair by pair in order, sweep after sweep.
         for _ in 0..MAX_END_SWEEPS {
@@ -561,7 +584,7 @@ fn requery(
     margin: &impl Fn(usize) -> f64,
     tol: &impl Fn(usize, usize) -> f64,
     rest: f64,
-) {
+) -> bool {
     let bx = swept_box(&colliders[k], &s.paths[k], margin(k));
     if !s.changed[k] {
         s.changed[k] = true;
@@ -573,6 +596,11 @@ fn requery(
     s.broad.query(&bx, &mut s.query);
     let mut others = std::mem::take(&mut s.query);
     others.retain(|&m| m as usize != k);
+    if others.len() > s.pairs_left {
+        s.query = others;
+        return false;
+    }
+    s.pairs_left -= others.len();
     for &m in &others {
         let m = m as usize;
         if immovable(&s.inv[k]) && immovable(&s.inv[m]) {
@@ -599,4 +627,50 @@ fn requery(
         }
     }
     s.query = others;
+    true
+}
+
+/// Returns why a body on `path` is too far out for its contacts, if it is: where
+/// neighbouring f64 values lie further apart than its slop (`DEFAULT_SLOP` of its
+/// size), or its angle's further apart than `DEFAULT_SLOP` radians, contacts cannot be
+/// kept to the slop. At 1 m that is 4.5·10^12 m from the origin.
+fn beyond_precision(path: &Path, size: f64, spins: bool) -> Option<Beyond> {
+    let end = path.r + path.dr;
+    let coordinate = path.r.abs().max(end.abs()).max_element();
+    // The spacing of f64 values at x is at most x·ε (ε = 2^-52).
+    let spacing = coordinate * f64::EPSILON;
+    if spacing > DEFAULT_SLOP * size {
+        return Some(Beyond::Precision {
+            coordinate,
+            spacing,
+            angle: false,
+        });
+    }
+    if spins {
+        let angle = path.angle.abs().max((path.angle + path.dangle).abs());
+        if angle * f64::EPSILON > DEFAULT_SLOP {
+            return Some(Beyond::Precision {
+                coordinate: angle,
+                spacing: angle * f64::EPSILON,
+                angle: true,
+            });
+        }
+    }
+    None
+}
+
+/// The stop of a step that met more candidate pairs than `budget`, naming the body
+/// that moved furthest in it: the one whose path crosses most others'.
+fn longest_path(colliders: &[super::Collider], start: &State, end: &State, budget: usize) -> Stop {
+    let (body, distance) = colliders
+        .iter()
+        .map(|c| (c.body, (end.pos[c.body] - start.pos[c.body]).length()))
+        .fold(
+            (colliders[0].body, -1.0),
+            |m, x| if x.1 > m.1 { x } else { m },
+        );
+    Stop::Unanswerable(Unanswerable {
+        body,
+        why: Beyond::Pairs { distance, budget },
+    })
 }

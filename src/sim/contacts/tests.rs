@@ -64,9 +64,9 @@ fn bodies_left_overlapping_deeper_than_the_tolerance_are_an_overlap() {
     for i in 0..2 {
         end.pos[i] += 0.1 * start.vel[i];
     }
-    let o = contacts
-        .resolve(&system, &start, &mut end, 0.0, 0.1)
-        .expect_err("they overlap");
+    let Err(super::Stop::Overlap(o)) = contacts.resolve(&system, &start, &mut end, 0.0, 0.1) else {
+        panic!("they overlap");
+    };
     assert_eq!((o.a, o.b), (0, 1));
     assert!((o.depth - 0.098).abs() < 1e-12, "{}", o.depth);
     // Through a simulation, the overlap is a blow-up that names both bodies.
