@@ -47,7 +47,12 @@
 //!   resting pile; the most discs seen outside the bucket after any step of the 4 s;
 //!   the deepest overlap of two discs or of a disc and a wall after any step, and at
 //!   4 s; and the highest disc's height at 4 s, which tells how far the pile has sunk
-//!   into itself.
+//!   into itself;
+//! - for `scenes/bench/pile-10000.toml` (10,000 discs dropped into a bucket, issue 15's
+//!   frame-rate target): all of its 480 steps from the start, in physframes and in
+//!   Rapier's default, both sleeping, and the frame rate each one's mean step allows
+//!   the render (8 steps a frame) before anything is drawn. No criterion timing
+//!   follows this one.
 //!
 //! Criterion then times each engine's step again, going on from where the lockstep
 //! runs left each world (a standing or fallen pyramid, a resting pile), under the names
@@ -290,6 +295,50 @@ fn pile(c: &mut Criterion) {
     });
 }
 
+/// The 10,000-disc pile of issue 15's frame-rate target (`scenes/bench/pile-10000.toml`,
+/// which drops the discs from a loose grid), stepped from its start for its whole 2 s
+/// in lockstep in physframes and in Rapier at its default budget, both sleeping as
+/// each does by default: what `physframes bench` renders. The render's frames need 8
+/// steps each (30 frames/s at dt = 1/240 s), so the mean step bounds the frame rate the
+/// simulation alone allows, whatever the drawing costs; printed for both engines.
+fn pile_10000(_: &mut Criterion) {
+    let scene = scene(
+        "scenes/bench/pile-10000.toml",
+        include_str!("../../scenes/bench/pile-10000.toml"),
+    );
+    let mut entries = vec![
+        Entry {
+            id: "physframes-sleeping".into(),
+            budget: "up to 25 sweeps, bodies sleep",
+            engine: Box::new(Physframes::new(&scene, true)),
+            ours: 0,
+            times: Vec::new(),
+        },
+        Entry {
+            id: format!("rapier-{RAPIER_DEFAULT}-substeps-sleeping"),
+            budget: "8 sweeps, bodies sleep",
+            engine: Box::new(Rapier::new(&scene, RAPIER_DEFAULT, true)),
+            ours: 0,
+            times: Vec::new(),
+        },
+    ];
+    let steps = (scene.simulation.duration / scene.simulation.dt).round() as usize;
+    let per_frame = (1.0 / (scene.render.fps * scene.simulation.dt)).round();
+    eprintln!("pile-10000: stepping each engine {steps} steps in lockstep…");
+    lockstep(&mut entries, steps, true, None);
+    println!(
+        "pile-10000: 10,000 discs dropped into a bucket, dt = 1/240 s; all {steps} steps (2 s) \
+         of each engine in lockstep from the start, {per_frame} steps a frame"
+    );
+    print_times(&entries, |i| {
+        let mean = median_mean(&entries[i].times).1;
+        format!(
+            "the simulation alone allows at most {:.1} frames/s",
+            1.0 / (per_frame * mean)
+        )
+    });
+}
+
 criterion_group! {
     name = benches;
     // Short runs: the machine has two cores, shared with other work.
@@ -297,6 +346,6 @@ criterion_group! {
         .sample_size(10)
         .warm_up_time(Duration::from_secs(1))
         .measurement_time(Duration::from_secs(3));
-    targets = pyramid, pile
+    targets = pyramid, pile, pile_10000
 }
 criterion_main!(benches);
