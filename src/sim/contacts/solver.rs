@@ -4,8 +4,9 @@
 //! step, with Coulomb friction; then a few passes push apart what still overlaps by
 //! more than the slop. This is Box2D's (v2.4) contact solver, stage by stage:
 //!
-//! 1. *prepare*: for each contact point, the arms r_A and r_B from the centres of mass,
-//!    the normal and tangent masses 1/K_n and 1/K_t, and the velocity the point may
+//! 1. *prepare*: for each contact point, the arms r_A and r_B from the centres of mass
+//!    (kept as the cross products r⊥·n and r⊥·t that every impulse uses), the normal
+//!    and tangent masses 1/K_n and 1/K_t, and the velocity the point may
 //!    close at: 0 when touching, gap/h when apart by `gap` (a speculative contact may
 //!    close the gap in one step, but no more);
 //! 2. *warm start*: each point starts from the impulses it needed last step (matched by
@@ -27,7 +28,7 @@
 use glam::DVec2;
 
 use super::response::Inverse;
-use crate::sim::rigid::{perp_dot, point_velocity};
+use crate::sim::rigid::perp_dot;
 
 /// The fraction of a point's overlap beyond the slop that one relaxation pass removes
 /// (Box2D's Baumgarte factor).
@@ -47,9 +48,13 @@ pub use super::warm::WarmStart;
 /// One contact point being solved.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Point {
-    /// The arms from the centres of mass to the point.
-    pub ra: DVec2,
-    pub rb: DVec2,
+    /// The arms r_A, r_B from the centres of mass to the point, as the cross products
+    /// the impulses use: r⊥·n (`rna`, `rnb`) and r⊥·t (`rta`, `rtb`), where
+    /// r⊥·d = r × d is how far an impulse along d turns the body per unit of it.
+    pub rna: f64,
+    pub rnb: f64,
+    pub rta: f64,
+    pub rtb: f64,
     /// 1/K along the normal and along the tangent.
     pub normal_mass: f64,
     pub tangent_mass: f64,
@@ -125,37 +130,52 @@ struct Local {
 }
 
 impl Local {
-    /// Applies the impulse p at arms (ra, rb): +p to body a, -p to body b.
+    /// Applies the impulse λ·d at arms whose cross products with d are (rda, rdb): +λ·d
+    /// to body a, -λ·d to body b.
     #[inline(always)]
     fn apply<const SPINS: bool>(
         &mut self,
         inv: (Inverse, Inverse),
-        ra: DVec2,
-        rb: DVec2,
-        p: DVec2,
+        d: DVec2,
+        rda: f64,
+        rdb: f64,
+        lambda: f64,
     ) {
         let (ia, ib) = inv;
-        // v_A += p/M_A, ω_A += (r_A⊥·p)/I_A; the opposite on B.
+        // v_A += λ·d/M_A, ω_A += λ·(r_A⊥·d)/I_A; the opposite on B.
+        let p = lambda * d;
         self.va += ia.mass * p;
         self.vb -= ib.mass * p;
         if SPINS {
-            self.wa += ia.inertia * perp_dot(ra, p);
-            self.wb -= ib.inertia * perp_dot(rb, p);
+            self.wa += ia.inertia * (lambda * rda);
+            self.wb -= ib.inertia * (lambda * rdb);
         }
     }
 
-    /// Returns the relative velocity v_AP - v_BP at the arms (ra, rb).
+    /// Returns the relative velocity of the touching points along d,
+    /// (v_AP - v_BP)·d = (v_A - v_B)·d + ω_A·(r_A⊥·d) - ω_B·(r_B⊥·d), from the arms'
+    /// cross products with d (rda, rdb).
     #[inline(always)]
-    fn relative(&self, ra: DVec2, rb: DVec2) -> DVec2 {
-        point_velocity(self.va, self.wa, ra) - point_velocity(self.vb, self.wb, rb)
+    fn relative<const SPINS: bool>(&self, d: DVec2, rda: f64, rdb: f64) -> f64 {
+        let linear = (self.va - self.vb).dot(d);
+        if SPINS {
+            linear + (self.wa * rda - self.wb * rdb)
+        } else {
+            linear
+        }
     }
 }
 
 /// Returns 1/K for an impulse along the unit vector d at arms (ra, rb):
 /// K = 1/M_A + 1/M_B + (r_A⊥·d)²/I_A + (r_B⊥·d)²/I_B.
 pub fn effective_mass(inv: (Inverse, Inverse), ra: DVec2, rb: DVec2, d: DVec2) -> f64 {
+    effective_mass_of(inv, perp_dot(ra, d), perp_dot(rb, d))
+}
+
+/// [`effective_mass`] from the arms' cross products with d, rad = r_A⊥·d and
+/// rbd = r_B⊥·d.
+pub fn effective_mass_of(inv: (Inverse, Inverse), rad: f64, rbd: f64) -> f64 {
     let (ia, ib) = inv;
-    let (rad, rbd) = (perp_dot(ra, d), perp_dot(rb, d));
     let k = ia.mass + ib.mass + rad * rad * ia.inertia + rbd * rbd * ib.inertia;
     if k > 0.0 {
         1.0 / k
@@ -185,11 +205,12 @@ pub fn solve(
                 m.points[k].pn = pn;
                 m.points[k].pt = pt;
                 let p = m.points[k];
-                let impulse = pn * m.normal + pt * t;
                 if v.spins {
-                    l.apply::<true>(pair, p.ra, p.rb, impulse);
+                    l.apply::<true>(pair, m.normal, p.rna, p.rnb, pn);
+                    l.apply::<true>(pair, t, p.rta, p.rtb, pt);
                 } else {
-                    l.apply::<false>(pair, p.ra, p.rb, impulse);
+                    l.apply::<false>(pair, m.normal, p.rna, p.rnb, pn);
+                    l.apply::<false>(pair, t, p.rta, p.rtb, pt);
                 }
             }
         }
@@ -253,7 +274,7 @@ fn solve_friction<const SPINS: bool>(
     let t = m.normal.perp();
     for k in 0..m.count {
         let p = m.points[k];
-        let vt = v.relative(p.ra, p.rb).dot(t);
+        let vt = v.relative::<SPINS>(t, p.rta, p.rtb);
         let lambda = -p.tangent_mass * vt;
         // (max and min rather than clamp: a state so large that its impulses
         // overflow must not panic, only blow up, which the step's check reports.)
@@ -262,7 +283,7 @@ fn solve_friction<const SPINS: bool>(
         let applied = total - p.pt;
         m.points[k].pt = total;
         change = change.max(applied.abs());
-        v.apply::<SPINS>(inv, p.ra, p.rb, applied * t);
+        v.apply::<SPINS>(inv, t, p.rta, p.rtb, applied);
     }
     change
 }
@@ -284,13 +305,13 @@ fn solve_normal<const SPINS: bool>(
     let mut change: f64 = 0.0;
     for k in 0..m.count {
         let p = m.points[k];
-        let vn = v.relative(p.ra, p.rb).dot(n);
+        let vn = v.relative::<SPINS>(n, p.rna, p.rnb);
         let lambda = -p.normal_mass * (vn - p.bias);
         let total = (p.pn + lambda).max(0.0);
         let applied = total - p.pn;
         m.points[k].pn = total;
         change = change.max(applied.abs());
-        v.apply::<SPINS>(inv, p.ra, p.rb, applied * n);
+        v.apply::<SPINS>(inv, n, p.rna, p.rnb, applied);
     }
     change
 }
@@ -307,8 +328,8 @@ fn solve_block<const SPINS: bool>(
     let n = m.normal;
     let (ia, ib) = inv;
     let (p1, p2) = (m.points[0], m.points[1]);
-    let (r1a, r1b) = (perp_dot(p1.ra, n), perp_dot(p1.rb, n));
-    let (r2a, r2b) = (perp_dot(p2.ra, n), perp_dot(p2.rb, n));
+    let (r1a, r1b) = (p1.rna, p1.rnb);
+    let (r2a, r2b) = (p2.rna, p2.rnb);
     let k11 = ia.mass + ib.mass + ia.inertia * r1a * r1a + ib.inertia * r1b * r1b;
     let k22 = ia.mass + ib.mass + ia.inertia * r2a * r2a + ib.inertia * r2b * r2b;
     let k12 = ia.mass + ib.mass + ia.inertia * r1a * r2a + ib.inertia * r1b * r2b;
@@ -318,8 +339,8 @@ fn solve_block<const SPINS: bool>(
         return None;
     }
     let (a1, a2) = (p1.pn, p2.pn);
-    let vn1 = v.relative(p1.ra, p1.rb).dot(n);
-    let vn2 = v.relative(p2.ra, p2.rb).dot(n);
+    let vn1 = v.relative::<SPINS>(n, r1a, r1b);
+    let vn2 = v.relative::<SPINS>(n, r2a, r2b);
     // b = v_n - bias - K·a.
     let b1 = vn1 - p1.bias - (k11 * a1 + k12 * a2);
     let b2 = vn2 - p2.bias - (k12 * a1 + k22 * a2);
@@ -346,8 +367,8 @@ fn solve_block<const SPINS: bool>(
     let (d1, d2) = (x1 - a1, x2 - a2);
     m.points[0].pn = x1;
     m.points[1].pn = x2;
-    v.apply::<SPINS>(inv, p1.ra, p1.rb, d1 * n);
-    v.apply::<SPINS>(inv, p2.ra, p2.rb, d2 * n);
+    v.apply::<SPINS>(inv, n, r1a, r1b, d1);
+    v.apply::<SPINS>(inv, n, r2a, r2b, d2);
     Some(d1.abs().max(d2.abs()))
 }
 

@@ -13,12 +13,13 @@ use super::narrow_phase::{contact, Contact, Rotations};
 use super::relax::Relax;
 use super::response::{closes, collide, normal_velocity, strike_point, Inverse, Side};
 use super::sleep::{hold_all, hold_or_wake, settle, Islands};
-use super::solver::{self, effective_mass, Manifold, Point, Velocities};
+use super::solver::{self, effective_mass_of, Manifold, Point, Velocities};
 use super::toi::{time_of_impact, Path};
 use super::{
     inverse, Beyond, ContactEvent, Contacts, Overlap, Stop, Unanswerable, DEFAULT_SLOP,
     IMPACTS_PER_BODY, PAIRS_PER_BODY, PAIRS_PER_STEP,
 };
+use crate::sim::rigid::perp_dot;
 use crate::sim::{State, System};
 
 /// Sweeps over the contacts that collide at the step's end before the step leaves the
@@ -504,11 +505,15 @@ impl Contacts {
                 };
                 for k in 0..ct.count {
                     let (ra, rb) = (ct.points[k] - end.pos[bi], ct.points[k] - end.pos[bj]);
+                    let (rna, rnb) = (perp_dot(ra, ct.normal), perp_dot(rb, ct.normal));
+                    let (rta, rtb) = (perp_dot(ra, t), perp_dot(rb, t));
                     m.points[k] = Point {
-                        ra,
-                        rb,
-                        normal_mass: effective_mass(pair, ra, rb, ct.normal),
-                        tangent_mass: effective_mass(pair, ra, rb, t),
+                        rna,
+                        rnb,
+                        rta,
+                        rtb,
+                        normal_mass: effective_mass_of(pair, rna, rnb),
+                        tangent_mass: effective_mass_of(pair, rta, rtb),
                         // Apart by a gap, the point may close it within the step.
                         bias: -(ct.gaps[k].max(0.0)) / h,
                         pn: 0.0,
