@@ -40,7 +40,7 @@ FOOT
 }
 
 # bodies COUNT SEED KIND [RADIUS]: COUNT [[body]] tables; KIND is circles, arrows, mixed,
-# sizes, crates, dumbbells or turning; circles and arrows have RADIUS (0.06 unless given).
+# sizes, crates, dumbbells, spinning-dumbbells or turning; circles and arrows have RADIUS (0.06 unless given).
 bodies() {
     awk -v n="$1" -v seed="$2" -v kind="$3" -v radius="${4:-0.06}" '
     function rnd() { x = (x * 16807) % 2147483647; return x / 2147483647 }
@@ -51,7 +51,7 @@ bodies() {
             px = uniform(0.5, 15.5); py = uniform(0.5, 8.5)
             vx = uniform(-0.3, 0.3); vy = uniform(-0.3, 0.3)
             printf "[[body]]\n"
-            if (kind != "dumbbells") printf "mass = 1.0\n"
+            if (kind != "dumbbells" && kind != "spinning-dumbbells") printf "mass = 1.0\n"
             printf "position = [%.4f, %.4f]\nvelocity = [%.4f, %.4f]\n", px, py, vx, vy
             if (kind == "circles" || kind == "arrows") {
                 printf "shape = { circle = { radius = %s } }\n", radius
@@ -90,6 +90,10 @@ bodies() {
             } else if (kind == "dumbbells") {
                 # A body of two point masses (Equations 7-11 of the article) instead of
                 # mass and shape; the mass printed above is replaced by its points.
+                print "points = [{ offset = [-0.05, 0.0], mass = 1.0 }, { offset = [0.05, 0.0], mass = 2.0 }]"
+            } else if (kind == "spinning-dumbbells") {
+                # The same bodies, each turning at its own rate from its own angle.
+                printf "angle = %.4f\nangular_velocity = %.4f\n", uniform(-3.1416, 3.1416), uniform(-2.0, 2.0)
                 print "points = [{ offset = [-0.05, 0.0], mass = 1.0 }, { offset = [0.05, 0.0], mass = 2.0 }]"
             } else if (kind == "turning") {
                 printf "angle = %.4f\nangular_velocity = %.4f\n", uniform(-3.1416, 3.1416), uniform(-2.0, 2.0)
@@ -147,6 +151,12 @@ bodies() {
     bodies 1000 41 dumbbells
     footer
 } >dumbbells-1000.toml
+
+{
+    header spinning-dumbbells-1000 "1000 bodies of two point masses each, alike, in the default colours, each turning at its own rate from its own angle." 10.0
+    bodies 1000 43 spinning-dumbbells
+    footer
+} >spinning-dumbbells-1000.toml
 
 {
     header turning-boxes-1000 "1000 boxes in the default colours, each turning at its own rate from its own angle." 10.0

@@ -34,6 +34,8 @@ pub struct BodyLook {
     /// The point masses' discs and the bars joining them to the centre, for bodies of
     /// point masses.
     points: Option<(Path, Path)>,
+    /// For bodies of point masses, each mass's offset in pixels and its disc's radius.
+    masses: Option<Vec<((f32, f32), f32)>>,
     fill: Color,
     edge: Color,
     /// A radius in pixels that encloses everything drawn for the body.
@@ -104,6 +106,7 @@ impl BodyLook {
         let mut reach = 0.0f32;
         let mut outline = None;
         let mut points = None;
+        let mut point_masses = None;
         let mut marker = None;
         let mut circle = None;
         match &body.shape {
@@ -154,9 +157,11 @@ impl BodyLook {
                 let heaviest = masses.iter().map(|p| p.mass).fold(0.0, f64::max);
                 let mut discs = PathBuilder::new();
                 let mut bars = PathBuilder::new();
+                let mut kept = Vec::with_capacity(masses.len());
                 for p in masses {
                     let (x, y) = px(p.offset);
                     let r = 3.0 + 6.0 * (p.mass / heaviest).sqrt() as f32;
+                    kept.push(((x, y), r));
                     discs.push_circle(x, y, r);
                     bars.move_to(0.0, 0.0);
                     bars.line_to(x, y);
@@ -164,6 +169,7 @@ impl BodyLook {
                 }
                 if let (Some(d), Some(b)) = (discs.finish(), bars.finish()) {
                     points = Some((d, b));
+                    point_masses = Some(kept);
                 }
                 reach = reach.max(6.0);
             }
@@ -222,6 +228,7 @@ impl BodyLook {
             general,
             marker,
             points,
+            masses: point_masses,
             fill: color(body.color, 1.0),
             edge: color(darker(body.color), 1.0),
             reach,
@@ -229,6 +236,12 @@ impl BodyLook {
             show_velocity: body.show_velocity,
             show_force: body.show_force,
         }
+    }
+
+    /// For a body of point masses, each mass's offset from the centre of mass in
+    /// pixels (at angle 0 if the body turns) and its disc's radius in pixels.
+    pub fn point_masses(&self) -> Option<Vec<((f32, f32), f32)>> {
+        self.masses.clone()
     }
 
     /// Returns a radius in pixels, around the centre of mass, that encloses the shape.
@@ -595,9 +608,16 @@ fn outline_stroke() -> Stroke {
     }
 }
 
+/// The radius of the centre-of-mass marker in pixels.
+const MARKER_RADIUS: f32 = 5.0;
+
+/// How far the centre-of-mass marker reaches from its centre, in pixels: its radius
+/// and half its 1-pixel ring.
+pub const MARKER_REACH: f32 = MARKER_RADIUS + 0.5;
+
 /// Draws the classic centre-of-mass symbol: a circle with two opposite quarters filled.
-fn draw_centre_of_mass_marker(pixmap: &mut Pixmap, x: f32, y: f32) {
-    let r = 5.0;
+pub fn draw_centre_of_mass_marker(pixmap: &mut Pixmap, x: f32, y: f32) {
+    let r = MARKER_RADIUS;
     let mut paint = Paint {
         anti_alias: true,
         ..Paint::default()

@@ -19,6 +19,7 @@ use std::sync::Arc;
 use super::bodies::BodyLook;
 use super::camera::Camera;
 use super::picture::PictureSheet;
+use super::points::{PointSprites, TurningPoints};
 use super::sprite::{SpriteCoverage, SpriteSheet, MAX_SPRITE_REACH, PHASES};
 use super::turning::{TurningCoverage, TurningSheet};
 use super::BodyDrawing;
@@ -42,6 +43,9 @@ pub struct Look {
     /// For a body of point masses that never turns and that many bodies share, its
     /// picture at every phase ([`super::picture`]).
     pub picture: Option<Arc<PictureSheet>>,
+    /// For a body of point masses that turns and that many bodies share, its layers
+    /// drawn by the scan converter and sprites ([`super::points`]).
+    pub points: Option<TurningPoints>,
 }
 
 /// The distinct looks of a scene's bodies, and the look of each body.
@@ -214,6 +218,7 @@ impl Looks {
                     turning: None,
                     fixed_angle: None,
                     picture: None,
+                    points: None,
                 });
                 geometry_of.push(key.geometry);
                 let fixed = turned_key.filter(|_| !b.turns).map(|k| {
@@ -240,6 +245,7 @@ impl Looks {
             // Sprites of snapped radii, keyed by the radius's bits, rasterised on every
             // core at once: a scene of discs of many sizes has dozens.
             let mut snapped = snapped_sheets(&looks, &users, &geometry_of, discs);
+            let mut point_sprites = PointSprites::default();
             for ((look, geometry), fixed) in looks.iter_mut().zip(&geometry_of).zip(&fixed_of) {
                 // A turning look of straight edges that many bodies share is stamped
                 // at angle bins.
@@ -270,11 +276,16 @@ impl Looks {
                         }
                     }
                 }
-                // A body of point masses that never turns, and whose geometry many
-                // bodies share, is laid over the frame as a picture in its colours.
+                // A body of point masses whose geometry many bodies share is laid over
+                // the frame as a picture in its colours when it never turns, and drawn
+                // layer by layer by the scan converter and sprites when it does.
                 if look.body.has_points() {
-                    if !look.body.turns() && users[geometry] >= SPRITE_MIN_BODIES {
-                        look.picture = PictureSheet::new(&look.body, MAX_SPRITE_REACH);
+                    if users[geometry] >= SPRITE_MIN_BODIES {
+                        if look.body.turns() {
+                            look.points = point_sprites.turning(&look.body);
+                        } else {
+                            look.picture = PictureSheet::new(&look.body, MAX_SPRITE_REACH);
+                        }
                     }
                     continue;
                 }

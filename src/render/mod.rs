@@ -25,6 +25,7 @@ pub mod layers;
 pub mod looks;
 pub mod picture;
 pub mod plot;
+pub mod points;
 pub mod raster;
 pub mod springs;
 pub mod sprite;
@@ -657,6 +658,11 @@ impl Renderer {
             if let (Some(picture), None) = (&look.picture, angle) {
                 picture.stamp(pixmap, x, y);
                 continue;
+            }
+            if let (Some(points), Some(theta)) = (&look.points, angle) {
+                if points.draw(pixmap, x, y, theta) {
+                    continue;
+                }
             }
             match (&look.sprite, angle) {
                 (Some(sprite), None) => sprite.stamp(pixmap, x, y),

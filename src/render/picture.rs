@@ -50,6 +50,12 @@ impl PictureSheet {
         if look.turns() || reach.is_nan() || reach > max_reach {
             return None;
         }
+        Self::of_drawing(reach, |pixmap, x, y| look.draw(pixmap, x, y))
+    }
+
+    /// Draws with `draw` (which draws something centred at pixel (x, y) within `reach`
+    /// pixels of it) at every phase.
+    pub fn of_drawing(reach: f32, draw: impl Fn(&mut Pixmap, f32, f32)) -> Option<Arc<Self>> {
         // Room for the outlines' half-widths and anti-aliasing on every side.
         let pad = (reach + 3.0).ceil() as i32;
         let side = (2 * pad + 2) as u32;
@@ -61,7 +67,7 @@ impl PictureSheet {
                     pad as f32 + j as f32 / PHASES as f32,
                 );
                 let mut pixmap = Pixmap::new(side, side)?;
-                look.draw(&mut pixmap, x, y);
+                draw(&mut pixmap, x, y);
                 pictures.push(Picture::trimmed(&pixmap, -pad, -pad));
             }
         }

@@ -271,6 +271,31 @@ impl Sprite {
         }
     }
 
+    /// Blends one layer only, the fill (0) or the outline (1), in `ink`, with the
+    /// sprite's top-left pixel at (x, y).
+    pub(crate) fn stamp_layer(&self, pixmap: &mut Pixmap, x: i64, y: i64, layer: usize, ink: Ink) {
+        let (pw, ph) = (i64::from(pixmap.width()), i64::from(pixmap.height()));
+        let (w, h) = (self.width as i64, self.height as i64);
+        let (cx0, cy0) = ((-x).max(0), (-y).max(0));
+        let (cx1, cy1) = (w.min(pw - x), h.min(ph - y));
+        if cx0 >= cx1 || cy0 >= cy1 {
+            return;
+        }
+        let data = pixmap.data_mut();
+        let run = (cx1 - cx0) as usize;
+        for row in cy0..cy1 {
+            let src = (row * w + cx0) as usize;
+            let dst = 4 * ((y + row) * pw + x + cx0) as usize;
+            let covers = &self.coverage[src..src + run];
+            let pixels = &mut data[dst..dst + 4 * run];
+            for (d, c) in pixels.chunks_exact_mut(4).zip(covers) {
+                if c[layer] != 0 {
+                    ink.blend(d, c[layer]);
+                }
+            }
+        }
+    }
+
     /// Blends the fill, then the outline, with the sprite's top-left pixel at (x, y).
     pub(crate) fn stamp(&self, pixmap: &mut Pixmap, x: i64, y: i64, fill: Ink, edge: Ink) {
         let (pw, ph) = (i64::from(pixmap.width()), i64::from(pixmap.height()));
