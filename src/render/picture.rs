@@ -22,7 +22,7 @@ use std::sync::Arc;
 use tiny_skia::Pixmap;
 
 use super::bodies::BodyLook;
-use super::sprite::{snap_to, trim, PHASES};
+use super::sprite::{snap_to, trim, visible, PHASES};
 
 /// A look drawn whole at every phase, premultiplied.
 #[derive(Debug)]
@@ -93,13 +93,10 @@ impl PictureSheet {
     /// snapped to the nearest 1/`PHASES` of a pixel. Parts outside are skipped.
     pub fn stamp(&self, pixmap: &mut Pixmap, x: f32, y: f32) {
         let (p, x, y) = self.picture(x, y);
-        let (pw, ph) = (i64::from(pixmap.width()), i64::from(pixmap.height()));
-        let (w, h) = (p.width as i64, p.height as i64);
-        let (cx0, cy0) = ((-x).max(0), (-y).max(0));
-        let (cx1, cy1) = (w.min(pw - x), h.min(ph - y));
-        if cx0 >= cx1 || cy0 >= cy1 {
+        let Some((cx0, cy0, cx1, cy1)) = visible(pixmap, x, y, p.width, p.height) else {
             return;
-        }
+        };
+        let (pw, w) = (i64::from(pixmap.width()), p.width as i64);
         let data = pixmap.data_mut();
         let run = (cx1 - cx0) as usize;
         let div255 = |v: u16| (v + 255) >> 8;

@@ -274,45 +274,18 @@ impl Sprite {
     /// Blends one layer only, the fill (0) or the outline (1), in `ink`, with the
     /// sprite's top-left pixel at (x, y).
     pub(crate) fn stamp_layer(&self, pixmap: &mut Pixmap, x: i64, y: i64, layer: usize, ink: Ink) {
-        let (pw, ph) = (i64::from(pixmap.width()), i64::from(pixmap.height()));
-        let (w, h) = (self.width as i64, self.height as i64);
-        let (cx0, cy0) = ((-x).max(0), (-y).max(0));
-        let (cx1, cy1) = (w.min(pw - x), h.min(ph - y));
-        if cx0 >= cx1 || cy0 >= cy1 {
-            return;
-        }
-        let data = pixmap.data_mut();
-        let run = (cx1 - cx0) as usize;
-        for row in cy0..cy1 {
-            let src = (row * w + cx0) as usize;
-            let dst = 4 * ((y + row) * pw + x + cx0) as usize;
-            let covers = &self.coverage[src..src + run];
-            let pixels = &mut data[dst..dst + 4 * run];
+        self.rows(pixmap, x, y, |pixels, covers| {
             for (d, c) in pixels.chunks_exact_mut(4).zip(covers) {
                 if c[layer] != 0 {
                     ink.blend(d, c[layer]);
                 }
             }
-        }
+        });
     }
 
     /// Blends the fill, then the outline, with the sprite's top-left pixel at (x, y).
     pub(crate) fn stamp(&self, pixmap: &mut Pixmap, x: i64, y: i64, fill: Ink, edge: Ink) {
-        let (pw, ph) = (i64::from(pixmap.width()), i64::from(pixmap.height()));
-        let (w, h) = (self.width as i64, self.height as i64);
-        // The part of the sprite inside the pixmap: columns cx0..cx1, rows cy0..cy1.
-        let (cx0, cy0) = ((-x).max(0), (-y).max(0));
-        let (cx1, cy1) = (w.min(pw - x), h.min(ph - y));
-        if cx0 >= cx1 || cy0 >= cy1 {
-            return;
-        }
-        let data = pixmap.data_mut();
-        let run = (cx1 - cx0) as usize;
-        for row in cy0..cy1 {
-            let src = (row * w + cx0) as usize;
-            let dst = 4 * ((y + row) * pw + x + cx0) as usize;
-            let covers = &self.coverage[src..src + run];
-            let pixels = &mut data[dst..dst + 4 * run];
+        self.rows(pixmap, x, y, |pixels, covers| {
             for (d, [c_fill, c_edge]) in pixels.chunks_exact_mut(4).zip(covers) {
                 if *c_fill != 0 {
                     fill.blend(d, *c_fill);
@@ -321,8 +294,52 @@ impl Sprite {
                     edge.blend(d, *c_edge);
                 }
             }
+        });
+    }
+
+    /// Calls `blend` with each row of the pixmap's pixels under the sprite placed with
+    /// its top-left pixel at (x, y), and the sprite's coverage there; parts outside
+    /// the pixmap are skipped.
+    #[inline(always)]
+    fn rows(
+        &self,
+        pixmap: &mut Pixmap,
+        x: i64,
+        y: i64,
+        mut blend: impl FnMut(&mut [u8], &[[u8; 2]]),
+    ) {
+        let Some((cx0, cy0, cx1, cy1)) = visible(pixmap, x, y, self.width, self.height) else {
+            return;
+        };
+        let (pw, w) = (i64::from(pixmap.width()), self.width as i64);
+        let data = pixmap.data_mut();
+        let run = (cx1 - cx0) as usize;
+        for row in cy0..cy1 {
+            let src = (row * w + cx0) as usize;
+            let dst = 4 * ((y + row) * pw + x + cx0) as usize;
+            blend(
+                &mut data[dst..dst + 4 * run],
+                &self.coverage[src..src + run],
+            );
         }
     }
+}
+
+/// Returns the part of a `width` × `height` rectangle placed with its top-left pixel
+/// at (x, y) that lies inside the pixmap, as the rectangle's columns cx0..cx1 and rows
+/// cy0..cy1, or `None` when none does.
+pub(crate) fn visible(
+    pixmap: &Pixmap,
+    x: i64,
+    y: i64,
+    width: usize,
+    height: usize,
+) -> Option<(i64, i64, i64, i64)> {
+    let (pw, ph) = (i64::from(pixmap.width()), i64::from(pixmap.height()));
+    let (w, h) = (width as i64, height as i64);
+    let (cx0, cy0) = ((-x).max(0), (-y).max(0));
+    let (cx1, cy1) = (w.min(pw - x), h.min(ph - y));
+    (cx0 < cx1 && cy0 < cy1).then_some((cx0, cy0, cx1, cy1))
 }
 
 #[cfg(test)]
