@@ -43,8 +43,9 @@ pub struct Look {
     /// For a body of point masses that never turns and that many bodies share, its
     /// picture at every phase ([`super::picture`]).
     pub picture: Option<Arc<PictureSheet>>,
-    /// For a body of point masses that turns and that many bodies share, its layers
-    /// drawn by the scan converter and sprites ([`super::points`]).
+    /// For a body of point masses that turns and that many bodies share, or that few
+    /// share in a scene of many bodies of point masses, its layers drawn by the scan
+    /// converter and sprites ([`super::points`]).
     pub points: Option<TurningPoints>,
 }
 
@@ -192,6 +193,10 @@ impl Looks {
             .iter()
             .filter(|b| matches!(b.shape, Shape::Circle { .. }))
             .count();
+        let point_bodies = shown
+            .iter()
+            .filter(|b| matches!(b.shape, Shape::Points { .. }))
+            .count();
         for b in shown {
             let geometry = GeometryKey::of(b);
             *users.entry(geometry.clone()).or_default() += 1;
@@ -279,13 +284,17 @@ impl Looks {
                 // A body of point masses whose geometry many bodies share is laid over
                 // the frame as a picture in its colours when it never turns, and drawn
                 // layer by layer by the scan converter and sprites when it does.
+                // One that too few bodies share, in a scene of many bodies of point
+                // masses, is drawn by layers with its discs' radii snapped.
                 if look.body.has_points() {
                     if users[geometry] >= SPRITE_MIN_BODIES {
                         if look.body.turns() {
-                            look.points = point_sprites.turning(&look.body);
+                            look.points = point_sprites.layers(&look.body, false);
                         } else {
                             look.picture = PictureSheet::new(&look.body, MAX_SPRITE_REACH);
                         }
+                    } else if point_bodies >= SPRITE_MIN_BODIES {
+                        look.points = point_sprites.layers(&look.body, true);
                     }
                     continue;
                 }

@@ -659,8 +659,8 @@ impl Renderer {
                 picture.stamp(pixmap, x, y);
                 continue;
             }
-            if let (Some(points), Some(theta)) = (&look.points, angle) {
-                if points.draw(pixmap, x, y, theta) {
+            if let Some(points) = &look.points {
+                if points.draw(pixmap, x, y, angle) {
                     continue;
                 }
             }
