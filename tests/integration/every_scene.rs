@@ -1006,46 +1006,59 @@ fn dumbbells_that_never_turn_are_pictures_and_look_like_their_paths() {
     assert!(count * 2 <= covered, "{count} of {covered} pixels differ");
 }
 
-/// 300 turning bodies of point masses in the default colours: dumbbells whose discs
-/// overlap, dumbbells whose discs stand apart, and triangles of three masses, each at an
-/// angle of its own.
-fn turning_points_scene(count: usize) -> String {
+/// The text of a scene of `count` bodies of point masses in the default colours, at
+/// angles of their own: `body(i)` gives each one's masses and whether it turns.
+fn points_scene(count: usize, body: impl Fn(usize) -> (String, bool)) -> String {
     let mut text = String::from(
         "[simulation]\nduration = 2.0\n[render]\nwidth = 1280\nheight = 720\nfps = 20\nview = { min = [0.0, 0.0], max = [16.0, 9.0] }\n",
     );
+    for i in 0..count {
+        let k = (i * 7919) % 293;
+        let (points, turns) = body(i);
+        text.push_str(&format!(
+            "[[body]]\nposition = [{:.3}, {:.3}]\nangle = {:.4}\npoints = {points}\n",
+            0.3 + (k as f64 * 0.161) % 15.4,
+            0.3 + (i as f64 * 0.377) % 8.4,
+            0.1 + (i as f64 * 0.731) % 6.0,
+        ));
+        if turns {
+            text.push_str("angular_velocity = 1.5\n");
+        }
+    }
+    text
+}
+
+/// 300 turning bodies of point masses: dumbbells whose discs overlap, dumbbells whose
+/// discs stand apart, and triangles of three masses.
+fn turning_points_scene(count: usize) -> String {
     let shapes = [
         "[{ offset = [-0.05, 0.0], mass = 1.0 }, { offset = [0.05, 0.0], mass = 2.0 }]",
         "[{ offset = [-0.15, 0.0], mass = 1.0 }, { offset = [0.15, 0.0], mass = 1.0 }]",
         "[{ offset = [0.0, 0.12], mass = 1.0 }, { offset = [-0.1, -0.06], mass = 1.0 }, { offset = [0.1, -0.06], mass = 2.0 }]",
     ];
-    for i in 0..count {
-        let k = (i * 7919) % 293;
-        text.push_str(&format!(
-            "[[body]]\nposition = [{:.3}, {:.3}]\nangle = {:.4}\nangular_velocity = 1.5\npoints = {}\n",
-            0.3 + (k as f64 * 0.161) % 15.4,
-            0.3 + (i as f64 * 0.377) % 8.4,
-            0.1 + (i as f64 * 0.731) % 6.0,
-            shapes[i % 3],
-        ));
-    }
-    text
+    points_scene(count, |i| (shapes[i % 3].to_string(), true))
 }
 
-#[test]
-fn turning_bodies_of_point_masses_are_drawn_layer_by_layer_and_look_like_their_paths() {
-    // Turning bodies of point masses that 16 or more share are drawn by layers
-    // (`render/points.rs`): bars as tiny-skia's stroke rectangles through the scan
-    // converter (its coverage exactly), discs and the marker as sprites at positions
-    // snapped by at most 1/16 pixel along each axis. As for every sprite, an edge moving
-    // less than the quarter pixel between tiny-skia's samples changes a pixel by at most
-    // one sample a sub-row, 64/255. Two more effects reach a pixel: the marker's middle
-    // holds two lines (128, as for pictures), and where two discs' anti-aliased rims
-    // cross, the path fills their union once where the layers blend each disc in turn:
-    // coverages a and b give a + b - ab against about max(a, b), at most a quarter of
-    // the contrast, 64/255, on top of the rims' own 64. So 128/255 at most; measured
-    // below. A body at a multiple of a right angle (none here) is drawn as its path.
+/// `count` bodies of point masses, no two of the same masses, every other one turning:
+/// dumbbells and triangles of masses.
+fn unique_points_scene(count: usize) -> String {
+    points_scene(count, |i| {
+        let m = 1.0 + i as f64 * 0.0137;
+        let points = if i % 3 == 2 {
+            format!("[{{ offset = [0.0, 0.12], mass = 1.0 }}, {{ offset = [-0.1, -0.06], mass = {m:.4} }}, {{ offset = [0.1, -0.06], mass = 2.0 }}]")
+        } else {
+            format!("[{{ offset = [-0.1, 0.0], mass = 1.0 }}, {{ offset = [0.1, 0.0], mass = {m:.4} }}]")
+        };
+        (points, i % 2 == 0)
+    })
+}
+
+/// Checks that every body of `text` is drawn by layers, and that its first frame
+/// differs from exact paths by at most 128/255 on at most half the covered pixels;
+/// returns the scene.
+fn assert_drawn_by_layers_like_paths(text: &str, what: &str) -> physframes::scene::Scene {
     use physframes::render::BodyDrawing;
-    let s = crate::util::scene(&turning_points_scene(300));
+    let s = crate::util::scene(text);
     let looks =
         physframes::render::looks::Looks::new(&s.bodies, &camera_16_by_9(), BodyDrawing::Sprites);
     for &l in &looks.look_of {
@@ -1060,38 +1073,28 @@ fn turning_bodies_of_point_masses_are_drawn_layer_by_layer_and_look_like_their_p
     let covered = diff(&paths, &background).1;
     let total = crate::util::total_difference(&fast, &paths);
     let mean = total as f64 / covered as f64;
-    eprintln!("turning point masses: {count} of {covered} covered pixels differ, by {largest}/255 at most, {mean:.2}/255 on average");
+    eprintln!("{what}: {count} of {covered} covered pixels differ, by {largest}/255 at most, {mean:.2}/255 on average");
     assert!(covered > 40_000, "the bodies cover {covered} pixels");
     assert!(largest <= 128, "largest difference {largest}/255");
     assert!(count * 2 <= covered, "{count} of {covered} pixels differ");
+    s
 }
 
-/// `count` bodies of point masses in the default colours, no two of the same masses,
-/// every other one turning from an angle of its own, the rest at fixed angles of their
-/// own: dumbbells and triangles of masses.
-fn unique_points_scene(count: usize) -> String {
-    let mut text = String::from(
-        "[simulation]\nduration = 2.0\n[render]\nwidth = 1280\nheight = 720\nfps = 20\nview = { min = [0.0, 0.0], max = [16.0, 9.0] }\n",
-    );
-    for i in 0..count {
-        let k = (i * 7919) % 293;
-        let m = 1.0 + i as f64 * 0.0137;
-        let points = if i % 3 == 2 {
-            format!("[{{ offset = [0.0, 0.12], mass = 1.0 }}, {{ offset = [-0.1, -0.06], mass = {m:.4} }}, {{ offset = [0.1, -0.06], mass = 2.0 }}]")
-        } else {
-            format!("[{{ offset = [-0.1, 0.0], mass = 1.0 }}, {{ offset = [0.1, 0.0], mass = {m:.4} }}]")
-        };
-        text.push_str(&format!(
-            "[[body]]\nposition = [{:.3}, {:.3}]\nangle = {:.4}\npoints = {points}\n",
-            0.3 + (k as f64 * 0.161) % 15.4,
-            0.3 + (i as f64 * 0.377) % 8.4,
-            0.1 + (i as f64 * 0.731) % 6.0,
-        ));
-        if i % 2 == 0 {
-            text.push_str("angular_velocity = 1.5\n");
-        }
-    }
-    text
+#[test]
+fn turning_bodies_of_point_masses_are_drawn_layer_by_layer_and_look_like_their_paths() {
+    // Turning bodies of point masses that 16 or more share are drawn by layers
+    // (`render/points.rs`): bars as tiny-skia's stroke rectangles through the scan
+    // converter (its coverage exactly), discs and the marker as sprites at positions
+    // snapped by at most 1/16 pixel along each axis. As for every sprite, an edge moving
+    // less than the quarter pixel between tiny-skia's samples changes a pixel by at most
+    // one sample a sub-row, 64/255. Two more effects reach a pixel: the marker's middle
+    // holds two lines (128, as for pictures), and where two discs' anti-aliased rims
+    // cross, the path fills their union once where the layers blend each disc in turn:
+    // coverages a and b give a + b - ab against about max(a, b), at most a quarter of
+    // the contrast, 64/255, on top of the rims' own 64. So 128/255 at most; measured:
+    // 96/255, 4.2/255 on average. A body at a multiple of a right angle (none here) is
+    // drawn as its path.
+    assert_drawn_by_layers_like_paths(&turning_points_scene(300), "turning point masses");
 }
 
 #[test]
@@ -1101,30 +1104,17 @@ fn bodies_of_point_masses_of_their_own_are_drawn_by_layers_and_look_like_their_p
     // pixel. The radius's snap moves a rim by at most 1/16 pixel more, so an edge
     // moves by at most 1/16 + √2/16 = 0.15 pixel, still under the quarter pixel
     // between tiny-skia's samples: the bounds of the test above hold (128/255 at most,
-    // where the marker's two lines or two discs' rims meet in one pixel). Unturned,
-    // the discs' outlines are hairlines in the paths and in the sprites. The frames
-    // are the same bytes with one thread and two.
-    use physframes::render::BodyDrawing;
-    let s = crate::util::scene(&unique_points_scene(300));
-    let looks =
-        physframes::render::looks::Looks::new(&s.bodies, &camera_16_by_9(), BodyDrawing::Sprites);
-    assert_eq!(looks.looks.len(), 300, "every body a look of its own");
-    for look in &looks.looks {
-        assert!(
-            look.points.is_some() && look.picture.is_none(),
-            "drawn by layers"
-        );
-    }
-    let (fast, paths, background) = crate::util::first_frame_both_ways(&s);
-    let (largest, count) = diff(&fast, &paths);
-    let covered = diff(&paths, &background).1;
-    let total = crate::util::total_difference(&fast, &paths);
-    let mean = total as f64 / covered as f64;
-    eprintln!("point masses of their own: {count} of {covered} covered pixels differ, by {largest}/255 at most, {mean:.2}/255 on average");
-    assert!(covered > 40_000, "the bodies cover {covered} pixels");
-    assert!(largest <= 128, "largest difference {largest}/255");
-    assert!(count * 2 <= covered, "{count} of {covered} pixels differ");
+    // where the marker's two lines or two discs' rims meet in one pixel; measured:
+    // 110/255). Unturned, the discs' outlines are hairlines in the paths and in the
+    // sprites. The frames are the same bytes with one thread and two.
     let text = unique_points_scene(300);
+    let s = assert_drawn_by_layers_like_paths(&text, "point masses of their own");
+    let looks = physframes::render::looks::Looks::new(
+        &s.bodies,
+        &camera_16_by_9(),
+        physframes::render::BodyDrawing::Sprites,
+    );
+    assert_eq!(looks.looks.len(), 300, "every body a look of its own");
     let frames = |threads: &str| {
         let sandbox = crate::util::Sandbox::new();
         sandbox.write("points.toml", &text);
