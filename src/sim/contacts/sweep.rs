@@ -145,13 +145,14 @@ impl Contacts {
                 (true, Some(ii)) => ii[b],
                 _ => 0.0,
             };
-            s.inv.push(inverse(inv_mass[b], inertia));
+            let inv = inverse(inv_mass[b], inertia);
+            s.inv.push(inv);
             let (a0, a1, w0, w1) = if spins {
                 (start.angle[b], end.angle[b], start.omega[b], end.omega[b])
             } else {
                 (start.angle[b], start.angle[b], 0.0, 0.0)
             };
-            s.paths.push(Path {
+            let path = Path {
                 lambda: 0.0,
                 r: start.pos[b],
                 angle: a0,
@@ -161,20 +162,18 @@ impl Contacts {
                 omega: w0,
                 dv: end.vel[b] - start.vel[b],
                 domega: w1 - w0,
-            });
+            };
+            // A moving body so far out that f64 cannot place it to within its slop
+            // has contacts no stage can answer (and the times of impact of paths
+            // 10^16 m long would take seconds each): the run stops and names it.
+            if !immovable(&inv) {
+                if let Some(why) = beyond_precision(&path, c.size, spins) {
+                    return Err(Stop::Unanswerable(Unanswerable { body: b, why }));
+                }
+            }
+            s.paths.push(path);
         }
         let fixed = |inv: &[Inverse], i: usize| immovable(&inv[i]);
-        // A moving body so far out that f64 cannot place it to within its slop has
-        // contacts no stage can answer (and the times of impact of paths 10^16 m
-        // long would take seconds each): the run stops and names it.
-        for (k, c) in colliders.iter().enumerate() {
-            if fixed(&s.inv, k) {
-                continue;
-            }
-            if let Some(why) = beyond_precision(&s.paths[k], c.size, spins) {
-                return Err(Stop::Unanswerable(Unanswerable { body: c.body, why }));
-            }
-        }
         s.version.clear();
         s.version.resize(n, 0);
         s.changed.clear();
