@@ -29,14 +29,14 @@ pub(super) fn blend8(px: &mut [u8; 32], x0: i64, spans: &[Span; 4], ink: &Ink) {
 
 /// Asks for the cache line of `data[i]` to be loaded, when `i` is in range.
 #[inline(always)]
-pub(super) fn prefetch(data: &[u8], i: usize) {
+pub(crate) fn prefetch<T>(data: &[T], i: usize) {
     #[cfg(target_arch = "x86_64")]
     if let Some(p) = data.get(i) {
         // SAFETY: a prefetch reads nothing the program sees and cannot fault; the
         // pointer is to an element of `data`.
         unsafe {
             std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
-                (p as *const u8).cast(),
+                (p as *const T).cast(),
             )
         };
     }
