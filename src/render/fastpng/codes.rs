@@ -16,6 +16,9 @@ pub(super) struct Codes {
     pub(super) zlib: [u8; 2],
     /// Literal bytes 0 to 255 and the end of block (256): (code, length).
     pub(super) literal: [(u64, u32); 257],
+    /// Literal bytes 0 to 255 packed for the word loop of `Deflate::bytes`: the code
+    /// in the low 16 bits and its length above them (codes are at most 15 bits).
+    pub(super) packed: [u32; 256],
     /// A match of length 3 to 258 at distance 1, length code, extra bits and distance
     /// code together: (bits, count), indexed by length.
     pub(super) run: Vec<(u64, u32)>,
@@ -111,11 +114,16 @@ pub(super) fn read_codes() -> Option<Codes> {
         let bits = code | extra << code_length | distance_one.0 << (code_length + EXTRA[k]);
         *entry = (bits, code_length + EXTRA[k] + distance_one.1);
     }
+    let packed = std::array::from_fn(|b| {
+        let (code, length) = literal[b];
+        code as u32 | length << 16
+    });
     let mut codes = Codes {
         header,
         header_bits,
         zlib,
         literal,
+        packed,
         run,
         zeros: Vec::new(),
     };

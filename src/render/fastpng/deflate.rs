@@ -39,23 +39,41 @@ impl<'c> Deflate<'c> {
     /// Appends the low `count` bits of `bits` (count ≤ 64; no higher bit may be set).
     #[inline(always)]
     pub(super) fn put(&mut self, bits: u64, count: u32) {
-        if count == 0 {
-            return;
-        }
-        self.acc |= bits << self.n;
-        let total = self.n + count;
-        if total >= 64 {
-            self.out.extend_from_slice(&self.acc.to_le_bytes());
-            // The bits that did not fit in the word just written.
-            self.acc = if self.n == 0 {
-                0
-            } else {
-                bits >> (64 - self.n)
-            };
-            self.n = total - 64;
+        if count > 56 {
+            self.emit(bits & 0xffff_ffff, 32);
+            self.emit(bits >> 32, count - 32);
         } else {
-            self.n = total;
+            self.emit(bits, count);
         }
+    }
+
+    /// Appends the low `count` bits of `bits` (count ≤ 56; no higher bit may be set)
+    /// without a branch on the data: the pending bits and the new ones, at most 63,
+    /// are stored as one unaligned 64-bit word past the bytes written, and the whole
+    /// bytes among them are taken into `out`, leaving fewer than eight pending.
+    #[inline(always)]
+    pub(super) fn emit(&mut self, bits: u64, count: u32) {
+        debug_assert!(count <= 56 && self.n < 8 && bits >> count == 0);
+        self.acc |= bits << self.n;
+        self.n += count;
+        if self.out.capacity() - self.out.len() < 8 {
+            self.out.reserve(64);
+        }
+        let len = self.out.len();
+        let whole = self.n / 8;
+        // SAFETY: the capacity holds eight bytes past `len`, which the write
+        // initialises; `len` grows by at most seven of them.
+        unsafe {
+            self.out
+                .as_mut_ptr()
+                .add(len)
+                .cast::<[u8; 8]>()
+                .write_unaligned(self.acc.to_le_bytes());
+            self.out.set_len(len + whole as usize);
+        }
+        // At most 56 bits are shifted out: the shift is defined.
+        self.acc >>= 8 * whole;
+        self.n -= 8 * whole;
     }
 
     #[inline(always)]
@@ -161,85 +179,83 @@ impl<'c> Deflate<'c> {
     /// the bits that stand for `data` alone begin (`usize::MAX` when every byte is
     /// zero). Trailing zeros stay in the run, so afterwards the bit position is the end
     /// of the last literal.
+    ///
+    /// Nothing in the loop branches on the bytes. The words are taken 64 at a time: a
+    /// bit for each nonzero word, then the nonzero words one after the other, the zero
+    /// words between them only counted. A nonzero word's first and last nonzero bytes
+    /// come from counting zero bits, every byte's code is looked up, and those outside
+    /// first..=last are masked away (a zero between them stays a literal). Branches on
+    /// where an anti-aliased edge's words and bytes begin and end, which the processor
+    /// mispredicted, took a third of the time of busy rows. The bits are written
+    /// through a [`Sink`] held in registers, with room for the most the bytes can take
+    /// reserved up front.
     #[inline]
     pub(super) fn bytes_marked<const MARK: bool>(&mut self, data: &[u8]) -> usize {
         let mut mark = usize::MAX;
-        // The run is counted in a local, which stays in a register through the runs
-        // of zero words that make up most of a filtered frame; it goes back into
-        // `self.run` only to be written.
         let mut run = self.run;
         let mut chunks = data.chunks_exact(8);
-        for chunk in &mut chunks {
-            // One 8-byte load (a chunk of `chunks_exact(8)` always converts).
-            let word = u64::from_le_bytes(chunk.try_into().unwrap_or_default());
-            if word == 0 {
-                run += 8;
-                continue;
+        let words = chunks.len();
+        let word_at = |j: usize| {
+            let b = &data[8 * j..8 * j + 8];
+            u64::from_le_bytes(b.try_into().unwrap_or_default())
+        };
+        let codes = self.codes;
+        let mut sink = Sink::take(self, SINK_BYTES_PER_WORD * words);
+        for block in (0..words).step_by(64) {
+            let n = (words - block).min(64);
+            let mut nonzero = 0u64;
+            for j in 0..n {
+                nonzero |= u64::from(word_at(block + j) != 0) << j;
             }
-            // No zero byte (the classic test: a byte is zero when subtracting one
-            // borrows into its top bit and the byte had no top bit): eight literals.
-            const ONES: u64 = 0x0101_0101_0101_0101;
-            const TOPS: u64 = 0x8080_8080_8080_8080;
-            if word.wrapping_sub(ONES) & !word & TOPS == 0 {
-                self.run = run;
-                self.flush_run();
-                if MARK && mark == usize::MAX {
-                    mark = self.bit_position();
+            let mut next = 0;
+            while nonzero != 0 {
+                let j = nonzero.trailing_zeros() as usize;
+                nonzero &= nonzero - 1;
+                run += 8 * (j - next);
+                next = j + 1;
+                let word = word_at(block + j);
+                let first = word.trailing_zeros() / 8;
+                let last = 7 - word.leading_zeros() / 8;
+                run += first as usize;
+                match codes.zeros.get(run) {
+                    Some(&(bits, count)) if count <= 56 => sink.emit(bits, count),
+                    // A run too long for one write, rarely met among busy words.
+                    _ => {
+                        sink.give(self);
+                        self.run = run;
+                        self.flush_run();
+                        sink = Sink::take(self, SINK_BYTES_PER_WORD * (words - block));
+                    }
                 }
-                self.four(&chunk[..4]);
-                self.four(&chunk[4..]);
-                run = 0;
-                continue;
+                if MARK {
+                    mark = mark.min(sink.bit_position());
+                }
+                // 0xff in the bytes first..=last, 0 elsewhere.
+                let keep = (u64::MAX << (8 * first)) & (u64::MAX >> (8 * (7 - last)));
+                let (low, low_count) = half(&codes.packed, word, keep);
+                let (high, high_count) = half(&codes.packed, word >> 32, keep >> 32);
+                sink.emit(low, low_count);
+                sink.emit(high, high_count);
+                run = (7 - last) as usize;
             }
-            let first = (word.trailing_zeros() / 8) as usize;
-            let last = 7 - (word.leading_zeros() / 8) as usize;
-            self.run = run + first;
-            self.flush_run();
-            if MARK && mark == usize::MAX {
-                mark = self.bit_position();
-            }
-            self.literals(&chunk[first..=last]);
-            run = 7 - last;
+            run += 8 * (n - next);
         }
+        sink.give(self);
+        // The words were read by index; the remainder is what `chunks_exact` leaves.
+        chunks.by_ref().for_each(drop);
         self.run = run;
         for &b in chunks.remainder() {
             if b == 0 {
                 self.run += 1;
             } else {
                 self.flush_run();
-                if MARK && mark == usize::MAX {
-                    mark = self.bit_position();
+                if MARK {
+                    mark = mark.min(self.bit_position());
                 }
                 self.literal(usize::from(b));
             }
         }
         mark
-    }
-
-    /// Writes four bytes as literals in one write (codes are at most 15 bits).
-    #[inline(always)]
-    pub(super) fn four(&mut self, bytes: &[u8]) {
-        let lit = &self.codes.literal;
-        let (c0, l0) = lit[usize::from(bytes[0])];
-        let (c1, l1) = lit[usize::from(bytes[1])];
-        let (c2, l2) = lit[usize::from(bytes[2])];
-        let (c3, l3) = lit[usize::from(bytes[3])];
-        let bits = c0 | c1 << l0 | c2 << (l0 + l1) | c3 << (l0 + l1 + l2);
-        self.put(bits, l0 + l1 + l2 + l3);
-    }
-
-    /// Writes bytes as literals, four codes (at most 15 bits each) at a time.
-    #[inline(always)]
-    pub(super) fn literals(&mut self, bytes: &[u8]) {
-        for four in bytes.chunks(4) {
-            let (mut bits, mut count) = (0u64, 0u32);
-            for &b in four {
-                let (code, length) = self.codes.literal[usize::from(b)];
-                bits |= code << count;
-                count += length;
-            }
-            self.put(bits, count);
-        }
     }
 
     /// Writes the pending run of zeros: one literal zero, then matches at distance 1 of
@@ -283,4 +299,93 @@ impl<'c> Deflate<'c> {
         self.out.extend_from_slice(&self.acc.to_le_bytes()[..bytes]);
         (self.out, bits)
     }
+}
+
+/// The most bytes one word of [`Deflate::bytes_marked`] writes: a run's code (at most
+/// 56 bits; longer ones go through [`Deflate::flush_run`]) and eight literals of at
+/// most 15 bits, with a spare word for the unaligned store past them.
+const SINK_BYTES_PER_WORD: usize = 32;
+
+/// A [`Deflate`]'s output taken into locals for a loop, so that its length and pending
+/// bits stay in registers (through `&mut self` the compiler loaded and stored them at
+/// every write, since the bytes written might alias them), with room reserved up
+/// front.
+struct Sink {
+    /// The output's start and the whole bytes written.
+    ptr: *mut u8,
+    len: usize,
+    /// The output's capacity: `len + 8` never passes it.
+    room: usize,
+    /// Pending bits (fewer than eight between writes), least significant first.
+    acc: u64,
+    n: u32,
+}
+
+impl Sink {
+    /// Takes `w`'s output with room for `bytes` more bytes, and eight spare.
+    #[inline(always)]
+    fn take(w: &mut Deflate<'_>, bytes: usize) -> Sink {
+        w.out.reserve(bytes + 8);
+        Sink {
+            ptr: w.out.as_mut_ptr(),
+            len: w.out.len(),
+            room: w.out.capacity(),
+            acc: w.acc,
+            n: w.n,
+        }
+    }
+
+    /// Gives the output back to `w`, which it was taken from.
+    #[inline(always)]
+    fn give(self, w: &mut Deflate<'_>) {
+        assert!(self.len <= w.out.capacity() && self.ptr == w.out.as_mut_ptr());
+        // SAFETY: every byte below `len` was there before or written by `emit`.
+        unsafe { w.out.set_len(self.len) };
+        (w.acc, w.n) = (self.acc, self.n);
+    }
+
+    /// The number of bits written so far.
+    #[inline(always)]
+    fn bit_position(&self) -> usize {
+        8 * self.len + self.n as usize
+    }
+
+    /// Appends the low `count` bits of `bits` (count ≤ 56; no higher bit may be set),
+    /// as [`Deflate::emit`] does.
+    #[inline(always)]
+    fn emit(&mut self, bits: u64, count: u32) {
+        debug_assert!(count <= 56 && self.n < 8 && bits >> count == 0);
+        self.acc |= bits << self.n;
+        self.n += count;
+        assert!(self.len + 8 <= self.room, "the sink's room was reserved");
+        // SAFETY: the eight bytes at `len` lie within the capacity (asserted).
+        unsafe {
+            self.ptr
+                .add(self.len)
+                .cast::<[u8; 8]>()
+                .write_unaligned(self.acc.to_le_bytes());
+        }
+        let whole = self.n / 8;
+        self.len += whole as usize;
+        // At most 56 bits are shifted out: the shift is defined.
+        self.acc >>= 8 * whole;
+        self.n -= 8 * whole;
+    }
+}
+
+/// The codes of the low four bytes of `word` whose byte in `keep` is 0xff, one after
+/// the other, and their length (at most 4 · 15 bits), from `packed` (each code in the
+/// low 16 bits of its entry, its length above).
+#[inline(always)]
+fn half(packed: &[u32; 256], word: u64, keep: u64) -> (u64, u32) {
+    let (mut bits, mut count) = (0u64, 0u32);
+    for i in 0..4 {
+        let entry = packed[((word >> (8 * i)) & 0xff) as usize];
+        // All ones for a byte kept, zero otherwise.
+        let mask = ((keep >> (8 * i)) & 0xff) as u32 * 0x0101_0101;
+        let entry = entry & mask;
+        bits |= u64::from(entry & 0xffff) << count;
+        count += entry >> 16;
+    }
+    (bits, count)
 }

@@ -6,7 +6,7 @@ use tiny_skia::Pixmap;
 
 use super::*;
 use crate::render::damage::Damage;
-use crate::render::encode::{encode_png_into, Compression, Provenance};
+use crate::render::encode::Provenance;
 
 impl StaticPng {
     pub(super) fn encode_damaged_with(
@@ -40,7 +40,8 @@ impl StaticPng {
         }
         let dirty_tiles: u32 = dirty.iter().map(|w| w.count_ones()).sum();
         if !always_tiles && !self.tiles_pay(dirty_tiles as usize, height * tiles_per_row) {
-            return encode_png_into(out, frame, provenance, Compression::Fastest, true);
+            self.encode_whole(frame, provenance, out);
+            return Ok(());
         }
         let data = frame.data();
         self.encode_rows(data, provenance, out, |y, dirty_row| {
@@ -65,24 +66,33 @@ impl StaticPng {
     }
 
     /// Whether compressing only the dirty tiles, and copying the others, is quicker
-    /// than `fdeflate` over the whole frame, given the number of dirty tiles.
+    /// than compressing every row whole ([`StaticPng::encode_whole`]), given the
+    /// number of dirty tiles.
     ///
-    /// A dirty tile costs more than `fdeflate` spends on the same bytes in a whole
-    /// frame (its spans are found and filtered one by one); a clean tile costs next
-    /// to nothing, and saves what `fdeflate` would spend on it: a little for a tile of
-    /// background, much more for a tile of arrows or text, whose nonzero bytes it
-    /// would code one by one. Fitted to encoding times at 1280 × 720 with 1000 to 2500
-    /// circles over the background and over 500 arrows and axes (see the README's
-    /// Performance section), per 8-byte word of the frame, with d the dirty fraction
-    /// of the tiles: the tiles save 0.8 ns per word of the frame and 15 ns per nonzero
+    /// A dirty tile costs more than the same bytes cost in a whole row (its spans are
+    /// found and filtered one by one); a clean tile costs next to nothing, and saves
+    /// what the whole row would spend on it: a little for a tile of background, much
+    /// more for a tile of arrows or text, whose nonzero bytes it would code one by
+    /// one. Fitted to encoding times at 1280 × 720 with 500 to 2500 circles over the
+    /// background and over 500 arrows and axes (`cargo run --release --example
+    /// encode_probe -- N`), per 8-byte word of the frame, with d the dirty fraction of
+    /// the tiles: the tiles save 0.55 ns per word of the frame and 12 ns per nonzero
     /// word of the static layer outside the damage, and cost 2.6 ns per word of the
-    /// frame per unit of d. Over the background they pay up to d ≈ 31%; over the
-    /// arrows, beyond the quarter of the frame where damage becomes whole.
+    /// frame per unit of d. Over the background they pay up to d ≈ 21%; over the
+    /// arrows, up to about 30%.
     pub(super) fn tiles_pay(&self, dirty_tiles: usize, tiles: usize) -> bool {
         let words = (self.pixels.len() / 8).max(1) as f64;
         let d = dirty_tiles as f64 / tiles.max(1) as f64;
         let busy = self.layer.busy_words as f64 / words;
-        2.6 * d < 0.8 + 15.0 * busy * (1.0 - d)
+        2.6 * d < 0.55 + 12.0 * busy * (1.0 - d)
+    }
+
+    /// Encodes a frame row by row, every row filtered and compressed whole: what a
+    /// frame that differs from the static layer almost everywhere costs least as.
+    /// Busy rows take a quarter less time than `fdeflate` spends on them (1000
+    /// arrows: 2.1 against 2.7 ms), and the bits are those the tiles would give.
+    pub(super) fn encode_whole(&self, frame: &Pixmap, provenance: &Provenance, out: &mut Vec<u8>) {
+        self.encode_rows(frame.data(), provenance, out, |_, _| RowPlan::Afresh);
     }
 
     /// Encodes a frame reusing the static layer's compressed rows and tiles, finding

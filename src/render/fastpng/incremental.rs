@@ -102,8 +102,7 @@ impl FrameCoder {
             // Nothing to copy: every row is compressed whole, as the tiles would give
             // it bit for bit, without recording the tiles. A frame that differs
             // everywhere from the one before (arrows over trails, every frame) costs
-            // what `fdeflate` over the frame costs, not a tile's bookkeeping per
-            // tile.
+            // what whole rows cost, not a tile's bookkeeping per tile.
             let mut filtered = std::mem::take(&mut self.filtered);
             for y in 0..self.height as usize {
                 let row = &data[y * stride..(y + 1) * stride];

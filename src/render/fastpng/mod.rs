@@ -19,18 +19,19 @@
 //! The compressed stream is one DEFLATE block with the Huffman code that the `fdeflate`
 //! crate tunes for filtered PNG data (read, once per process, from the header of an
 //! empty `fdeflate` stream): literals, and runs of zeros as matches at distance 1. So a
-//! frame is about the size `--compression fastest` gives. The pixels must be opaque
-//! (premultiplied and straight colour then agree); the caller checks. Compressing a
-//! dirty tile costs more than `fdeflate` spends on the same bytes inside a whole frame,
-//! so a frame with much damage (by a cost model fitted to measurements:
-//! `StaticPng::tiles_pay`) is handed to `fdeflate` whole. Either way the bytes depend
-//! only on the frame and its damage, never on the worker, the frames before it or the
-//! number of threads that compressed the static layer.
+//! frame is about the size `--compression fastest` gives (1% larger), in less time on
+//! busy rows: the coder's loop does not branch on where nonzero bytes fall. The pixels
+//! must be opaque (premultiplied and straight colour then agree); the caller checks.
+//! Compressing a dirty tile costs more than the same bytes cost inside a whole row, so
+//! a frame with much damage (by a cost model fitted to measurements:
+//! `StaticPng::tiles_pay`) is compressed row by row, every row whole. Either way the
+//! bytes depend only on the frame, never on the worker, the frames before it, the
+//! damage or the number of threads that compressed the static layer.
 //!
 //! The encoder lives in several files: `static_rows.rs` compresses the static layer's
 //! rows into stand-alone tiles with prefix sums for Adler-32; `frame.rs` assembles a
 //! frame's stream from copied stretches and freshly compressed dirty tiles, and holds
-//! the cost model that decides between tiles and `fdeflate`; `deflate.rs` is the bit
+//! the cost model that decides between tiles and whole rows; `deflate.rs` is the bit
 //! writer of the DEFLATE block; `codes.rs` reads the Huffman code from `fdeflate`. This
 //! file holds [`StaticPng`] and its entry points. `incremental.rs` holds
 //! [`FrameCoder`], which encodes a frame against the last frame a worker encoded
@@ -52,7 +53,7 @@ use static_rows::{compress_row, up_filter, Compressed, Sums};
 use tiny_skia::Pixmap;
 
 use super::damage::Damage;
-use super::encode::{encode_png_into, Compression, Provenance};
+use super::encode::Provenance;
 
 /// Bytes per tile of a filtered row: 8 RGBA pixels.
 pub(super) const TILE: usize = 32;
@@ -145,8 +146,8 @@ impl StaticPng {
     /// an 8-bit RGBA PNG with the given text chunks, into `out` (cleared first).
     ///
     /// When most rows differ from the static layer (a sample of every eighth row
-    /// decides), reusing tiles saves little and `fdeflate` over the whole frame is
-    /// quicker: the frame is then encoded as `--compression fastest` does.
+    /// decides), reusing tiles saves little and compressing every row whole is
+    /// quicker.
     pub fn encode(
         &self,
         frame: &Pixmap,
@@ -166,7 +167,8 @@ impl StaticPng {
             changed += usize::from(row != static_row);
         }
         if 2 * changed > sampled {
-            return encode_png_into(out, frame, provenance, Compression::Fastest, true);
+            self.encode_whole(frame, provenance, out);
+            return Ok(());
         }
         self.encode_tiles(frame, provenance, out);
         Ok(())
@@ -177,7 +179,7 @@ impl StaticPng {
     /// below none of it, since the Up filter reads the row above) are the static
     /// layer's, so their bits are copied without comparing any pixel. Whole damage
     /// falls back to [`StaticPng::encode`], and so does damage over so many tiles
-    /// that `fdeflate` over the whole frame is quicker (`StaticPng::tiles_pay`).
+    /// that compressing every row whole is quicker (`StaticPng::tiles_pay`).
     pub fn encode_damaged(
         &self,
         frame: &Pixmap,
@@ -193,7 +195,7 @@ impl StaticPng {
 
     /// Encodes a frame like [`StaticPng::encode_damaged`], always compressing the
     /// damaged tiles and copying the others (whole damage: every tile compressed), for
-    /// measuring that path against `fdeflate`.
+    /// measuring that path against whole rows.
     pub fn encode_damaged_tiles(
         &self,
         frame: &Pixmap,

@@ -1,4 +1,5 @@
 use super::*;
+use crate::render::encode::{encode_png_into, Compression};
 use tiny_skia::{Color, FillRule, Paint, PathBuilder, Transform};
 
 /// Checks the zlib stream's Adler-32 against the filtered bytes of `pixels`: the
@@ -180,6 +181,30 @@ fn the_layer_compresses_to_the_same_bits_on_any_number_of_threads() {
 }
 
 #[test]
+fn a_frame_is_the_same_bytes_whatever_its_damage() {
+    // Tiles copied from the static layer, tiles compressed afresh and rows compressed
+    // whole all give a row's bits as the row compressed whole would: the PNG is a
+    // function of the pixels, however the encoder chose to get it.
+    let layer = grey_discs(203, 61);
+    let encoder = StaticPng::new(&layer).expect("readable");
+    for k in [0, 1, 3] {
+        let (frame, damage) = frame_with_discs(&layer, k);
+        let none = Provenance::default();
+        let (mut tiles, mut whole, mut chosen) = (Vec::new(), Vec::new(), Vec::new());
+        let encodes = "encodes";
+        encoder
+            .encode_damaged_tiles(&frame, &damage, &none, &mut tiles)
+            .expect(encodes);
+        encoder
+            .encode_damaged_tiles(&frame, &Damage::whole(), &none, &mut whole)
+            .expect(encodes);
+        encoder.encode(&frame, &none, &mut chosen).expect(encodes);
+        assert!(tiles == whole, "{k} discs: tiles and whole rows differ");
+        assert!(chosen == whole, "{k} discs: the encoder's choice differs");
+    }
+}
+
+#[test]
 fn copied_tiles_cost_no_more_bytes_than_compressing_the_whole_frame() {
     // Runs of zeros cross from the static layer's tiles into the frame's and back
     // as in one stream: the tile path's frame is within a few bytes of fdeflate's
@@ -321,5 +346,89 @@ fn bit_ranges_are_copied_bit_for_bit_from_any_offset_to_any_offset() {
                 );
             }
         }
+    }
+}
+
+/// What `Deflate::bytes_marked` writes, by its definition, word by word: a zero word
+/// lengthens the run; otherwise the zeros before its first nonzero byte end the run,
+/// the bytes from that one to its last nonzero byte are literals, and the zeros after
+/// start the next run. Bytes past the last whole word go one by one.
+fn bytes_by_definition(w: &mut Deflate<'_>, data: &[u8]) -> usize {
+    let mut mark = usize::MAX;
+    let mut chunks = data.chunks_exact(8);
+    for chunk in &mut chunks {
+        let Some(first) = chunk.iter().position(|b| *b != 0) else {
+            w.run += 8;
+            continue;
+        };
+        let last = chunk.iter().rposition(|b| *b != 0).unwrap_or(first);
+        w.run += first;
+        w.flush_run();
+        mark = mark.min(w.bit_position());
+        for &b in &chunk[first..=last] {
+            w.literal(usize::from(b));
+        }
+        w.run = 7 - last;
+    }
+    for &b in chunks.remainder() {
+        if b == 0 {
+            w.run += 1;
+        } else {
+            w.flush_run();
+            mark = mark.min(w.bit_position());
+            w.literal(usize::from(b));
+        }
+    }
+    mark
+}
+
+#[test]
+fn the_word_loop_writes_the_bits_of_its_definition() {
+    // Busy stretches like anti-aliased edges (a zero alpha byte in every pixel),
+    // words without zeros, single zeros, runs of zeros of every length up to past
+    // the longest run one write takes (inside and across blocks of 64 words), and
+    // slices of every length and alignment, after any run and bits pending.
+    let codes = codes().expect("readable");
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut random = |n: u64| {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state % n
+    };
+    for case in 0..400 {
+        let len = random(3000) as usize;
+        let mut data = Vec::with_capacity(len);
+        while data.len() < len {
+            match random(5) {
+                0 => data.extend(std::iter::repeat_n(0, random(2500) as usize)),
+                1 => data.extend(std::iter::repeat_n(0, random(12) as usize)),
+                2 => {
+                    for _ in 0..random(40) {
+                        let rgb = [random(256), random(256), random(256)];
+                        data.extend(rgb.map(|v| v as u8));
+                        data.push(0);
+                    }
+                }
+                _ => data.extend((0..random(30)).map(|_| random(256) as u8)),
+            }
+        }
+        data.truncate(len);
+        let (pending, run) = (random(8) as u32, random(300) as usize);
+        let mut quick = Deflate::new(codes, vec![0x5a; case % 13]);
+        let mut reference = Deflate::new(codes, vec![0x5a; case % 13]);
+        for w in [&mut quick, &mut reference] {
+            w.put((1 << pending) - 1, pending);
+            w.run = run;
+        }
+        let marks = (
+            quick.bytes_marked::<true>(&data),
+            bytes_by_definition(&mut reference, &data),
+        );
+        assert_eq!(marks.0, marks.1, "case {case}: where the literals start");
+        assert_eq!(quick.run, reference.run, "case {case}: the run left");
+        quick.flush_run();
+        reference.flush_run();
+        assert_eq!(quick.into_bits(), reference.into_bits(), "case {case}");
     }
 }

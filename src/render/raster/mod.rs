@@ -39,8 +39,8 @@ use tiny_skia::Pixmap;
 use super::sprite::Ink;
 
 pub use convex::{cover_convex, fill_convex, fill_turned, fill_turned_apart};
-pub use shapes::{bar, capsule, Ring};
 pub(crate) use eight::prefetch;
+pub use shapes::{bar, capsule, Ring};
 
 /// A point in pixels.
 pub type Point = (f32, f32);
