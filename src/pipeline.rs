@@ -87,6 +87,10 @@ pub struct EdgeCosts {
     pub frames: u64,
     pub first_s: f64,
     pub last_s: f64,
+    /// Of those, the seconds spent writing the files: the operating system's part,
+    /// which grows as its page cache fills while the program's part stays flat.
+    pub first_write_s: f64,
+    pub last_write_s: f64,
 }
 
 /// One frame's snapshot, handed from the simulation to a worker.
@@ -113,9 +117,12 @@ struct StageClock {
     draw: AtomicU64,
     encode: AtomicU64,
     write: AtomicU64,
-    /// Draw, encode and write of the first and last [`EDGE_FRAMES`] frames.
+    /// Draw, encode and write of the first and last [`EDGE_FRAMES`] frames, and the
+    /// write alone.
     first: AtomicU64,
     last: AtomicU64,
+    first_write: AtomicU64,
+    last_write: AtomicU64,
 }
 
 impl StageClock {
@@ -125,15 +132,17 @@ impl StageClock {
         now
     }
 
-    /// Adds one frame's whole cost, from `since`, to the sums of the ends of `range` it
-    /// belongs to.
-    fn add_edges(&self, range: &Range<u64>, index: u64, since: Instant) {
+    /// Adds one frame's whole cost, from `since`, and its writing's, `write` seconds'
+    /// worth of nanoseconds, to the sums of the ends of `range` it belongs to.
+    fn add_edges(&self, range: &Range<u64>, index: u64, since: Instant, write: u64) {
         let nanos = since.elapsed().as_nanos() as u64;
         if index < range.start.saturating_add(EDGE_FRAMES) {
             self.first.fetch_add(nanos, Ordering::Relaxed);
+            self.first_write.fetch_add(write, Ordering::Relaxed);
         }
         if index >= range.end.saturating_sub(EDGE_FRAMES) {
             self.last.fetch_add(nanos, Ordering::Relaxed);
+            self.last_write.fetch_add(write, Ordering::Relaxed);
         }
     }
 }
@@ -329,9 +338,10 @@ fn render_full(
                         clock,
                         &mut buffers,
                     );
-                    clock.add_edges(range, job.index, started);
+                    let write = *done.as_ref().unwrap_or(&0);
+                    clock.add_edges(range, job.index, started, write);
                     match done {
-                        Ok(()) => {
+                        Ok(_) => {
                             written.fetch_add(1, Ordering::Relaxed);
                             progress.inc(1);
                         }
@@ -520,6 +530,8 @@ fn render_full(
             frames: EDGE_FRAMES.min(range.end - range.start),
             first_s: nanos(&clock.first),
             last_s: nanos(&clock.last),
+            first_write_s: nanos(&clock.first_write),
+            last_write_s: nanos(&clock.last_write),
         },
     })
 }
@@ -546,7 +558,8 @@ struct Buffers<'a> {
     shared_trails: (&'a Arc<SharedTrails>, usize),
 }
 
-/// Draws, encodes and writes one frame, adding each stage's time to the clock.
+/// Draws, encodes and writes one frame, adding each stage's time to the clock, and
+/// returns the nanoseconds the writing took.
 #[allow(clippy::too_many_arguments)]
 fn draw_and_write(
     scene: &Scene,
@@ -557,7 +570,7 @@ fn draw_and_write(
     options: &RenderOptions,
     clock: &StageClock,
     buffers: &mut Buffers<'_>,
-) -> Result<()> {
+) -> Result<u64> {
     let started = Instant::now();
     let view = FrameView {
         index: job.index,
@@ -587,8 +600,8 @@ fn draw_and_write(
         let png = coder.encode(&buffers.pixmap, state.changed(), &provenance);
         let encoded = StageClock::add(&clock.encode, drawn);
         output::write_atomic(&dir.join(output::frame_file_name(job.index)), png)?;
-        StageClock::add(&clock.write, encoded);
-        return Ok(());
+        let written = StageClock::add(&clock.write, encoded);
+        return Ok((written - encoded).as_nanos() as u64);
     }
     renderer.draw_with_trails(
         &view,
@@ -615,8 +628,8 @@ fn draw_and_write(
     .map_err(|e| Error::Runtime(format!("cannot encode frame {}: {e}", job.index)))?;
     let encoded = StageClock::add(&clock.encode, drawn);
     output::write_atomic(&dir.join(output::frame_file_name(job.index)), &buffers.png)?;
-    StageClock::add(&clock.write, encoded);
-    Ok(())
+    let written = StageClock::add(&clock.write, encoded);
+    Ok((written - encoded).as_nanos() as u64)
 }
 
 fn progress_bar(show: bool, len: u64) -> ProgressBar {

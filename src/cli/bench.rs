@@ -220,11 +220,14 @@ pub fn run(args: BenchArgs) -> Result<()> {
         if scene.render.trails {
             let e = &m.edges;
             table.push_str(&format!(
-                "  first {} frames {:.1} ms, last {} frames {:.1} ms (draw, encode, write)\n",
+                "  first {} frames {:.1} ms, last {} frames {:.1} ms (draw, encode, write); \
+                 without writing {:.1} and {:.1} ms\n",
                 e.frames,
                 ms(e.first_s),
                 e.frames,
-                ms(e.last_s)
+                ms(e.last_s),
+                ms(e.first_s - e.first_write_s),
+                ms(e.last_s - e.last_write_s)
             ));
         }
     }

@@ -1200,6 +1200,26 @@ fn bench_gives_each_scene_its_ratio_to_the_reference_and_trails_their_first_and_
         text.contains("first 6 frames") && text.contains("last 6 frames"),
         "{text}"
     );
+    // And what they cost without writing, which is part of what they cost.
+    let edges = text
+        .lines()
+        .find(|l| l.contains("first 6 frames"))
+        .expect("the line of the first and last frames");
+    // The times are the numbers written with a decimal point.
+    let ms: Vec<f64> = edges
+        .split_whitespace()
+        .filter(|w| w.contains('.'))
+        .filter_map(|w| w.trim_end_matches([',', ';']).parse().ok())
+        .collect();
+    let [first, last, first_unwritten, last_unwritten] = ms[..] else {
+        panic!("four times in {edges:?}: {ms:?}");
+    };
+    assert!(
+        edges.contains("without writing")
+            && (0.0..=first).contains(&first_unwritten)
+            && (0.0..=last).contains(&last_unwritten),
+        "{edges}"
+    );
     assert!(
         text.contains("ratio: frames/s over those of drag"),
         "{text}"
