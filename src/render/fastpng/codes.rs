@@ -17,7 +17,8 @@ pub(super) struct Codes {
     /// Literal bytes 0 to 255 and the end of block (256): (code, length).
     pub(super) literal: [(u64, u32); 257],
     /// Literal bytes 0 to 255 packed for the word loop of `Deflate::bytes`: the code
-    /// in the low 16 bits and its length above them (codes are at most 15 bits).
+    /// in the low 16 bits and its length above them (at most 14 bits, checked when the
+    /// code is read).
     pub(super) packed: [u32; 256],
     /// A match of length 3 to 258 at distance 1, length code, extra bits and distance
     /// code together: (bits, count), indexed by length.
@@ -113,6 +114,12 @@ pub(super) fn read_codes() -> Option<Codes> {
         let extra = (length - BASE[k]) as u64;
         let bits = code | extra << code_length | distance_one.0 << (code_length + EXTRA[k]);
         *entry = (bits, code_length + EXTRA[k] + distance_one.1);
+    }
+    // The word loop writes four literals at a time in one write of at most 56 bits:
+    // a code of the bytes longer than 14 bits (fdeflate's are at most 12) would not
+    // fit, and the `png` crate is used instead.
+    if literal[..256].iter().any(|&(_, length)| length > 14) {
+        return None;
     }
     let packed = std::array::from_fn(|b| {
         let (code, length) = literal[b];

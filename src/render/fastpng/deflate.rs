@@ -303,7 +303,7 @@ impl<'c> Deflate<'c> {
 
 /// The most bytes one word of [`Deflate::bytes_marked`] writes: a run's code (at most
 /// 56 bits; longer ones go through [`Deflate::flush_run`]) and eight literals of at
-/// most 15 bits, with a spare word for the unaligned store past them.
+/// most 14 bits, with a spare word for the unaligned store past them.
 const SINK_BYTES_PER_WORD: usize = 32;
 
 /// A [`Deflate`]'s output taken into locals for a loop, so that its length and pending
@@ -374,8 +374,8 @@ impl Sink {
 }
 
 /// The codes of the low four bytes of `word` whose byte in `keep` is 0xff, one after
-/// the other, and their length (at most 4 · 15 bits), from `packed` (each code in the
-/// low 16 bits of its entry, its length above).
+/// the other, and their length (at most 4 · 14 = 56 bits, as [`Sink::emit`] takes),
+/// from `packed` (each code in the low 16 bits of its entry, its length above).
 #[inline(always)]
 fn half(packed: &[u32; 256], word: u64, keep: u64) -> (u64, u32) {
     let (mut bits, mut count) = (0u64, 0u32);
