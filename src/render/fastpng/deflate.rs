@@ -47,33 +47,13 @@ impl<'c> Deflate<'c> {
         }
     }
 
-    /// Appends the low `count` bits of `bits` (count ≤ 56; no higher bit may be set)
-    /// without a branch on the data: the pending bits and the new ones, at most 63,
-    /// are stored as one unaligned 64-bit word past the bytes written, and the whole
-    /// bytes among them are taken into `out`, leaving fewer than eight pending.
+    /// Appends the low `count` bits of `bits` (count ≤ 56; no higher bit may be set),
+    /// through a [`Sink`] with room for them.
     #[inline(always)]
     pub(super) fn emit(&mut self, bits: u64, count: u32) {
-        debug_assert!(count <= 56 && self.n < 8 && bits >> count == 0);
-        self.acc |= bits << self.n;
-        self.n += count;
-        if self.out.capacity() - self.out.len() < 8 {
-            self.out.reserve(64);
-        }
-        let len = self.out.len();
-        let whole = self.n / 8;
-        // SAFETY: the capacity holds eight bytes past `len`, which the write
-        // initialises; `len` grows by at most seven of them.
-        unsafe {
-            self.out
-                .as_mut_ptr()
-                .add(len)
-                .cast::<[u8; 8]>()
-                .write_unaligned(self.acc.to_le_bytes());
-            self.out.set_len(len + whole as usize);
-        }
-        // At most 56 bits are shifted out: the shift is defined.
-        self.acc >>= 8 * whole;
-        self.n -= 8 * whole;
+        let mut sink = Sink::take(self, 8);
+        sink.emit(bits, count);
+        sink.give(self);
     }
 
     #[inline(always)]
@@ -350,8 +330,10 @@ impl Sink {
         8 * self.len + self.n as usize
     }
 
-    /// Appends the low `count` bits of `bits` (count ≤ 56; no higher bit may be set),
-    /// as [`Deflate::emit`] does.
+    /// Appends the low `count` bits of `bits` (count ≤ 56; no higher bit may be set)
+    /// without a branch on the data: the pending bits and the new ones, at most 63,
+    /// are stored as one unaligned 64-bit word past the bytes written, and the whole
+    /// bytes among them are taken into the output, leaving fewer than eight pending.
     #[inline(always)]
     fn emit(&mut self, bits: u64, count: u32) {
         debug_assert!(count <= 56 && self.n < 8 && bits >> count == 0);
