@@ -16,7 +16,10 @@ use physframes::render::{encode_png_into, Compression, Damage, Provenance};
 use tiny_skia::Pixmap;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let runs = 200;
+    let runs: usize = std::env::var("RUNS")
+        .ok()
+        .and_then(|r| r.parse().ok())
+        .unwrap_or(200);
     for path in std::env::args().skip(1) {
         let frame = decode(&std::fs::read(&path)?)?;
         let mut white = Pixmap::new(frame.width(), frame.height()).ok_or("empty frame")?;

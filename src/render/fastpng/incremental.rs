@@ -50,8 +50,8 @@ pub struct FrameCoder {
 }
 
 impl FrameCoder {
-    /// A coder for frames `width` × `height` (every pixel opaque), or `None` when the
-    /// Huffman code cannot be read or rows are too wide for 32-bit offsets.
+    /// A coder for frames `width` × `height` (every pixel opaque), or `None` when rows
+    /// are too wide for 32-bit offsets.
     pub fn new(width: u32, height: u32) -> Option<Self> {
         let stride = 4 * width as usize;
         // The bit positions are 32-bit: frames whose PNG might pass 2^29 bytes (at most
@@ -62,7 +62,7 @@ impl FrameCoder {
         Some(FrameCoder {
             width,
             height,
-            codes: codes()?,
+            codes: codes(),
             png: None,
             spare: Vec::new(),
             items: Vec::new(),

@@ -1,3 +1,4 @@
+use super::codes::canonical;
 use super::*;
 use crate::render::encode::{encode_png_into, Compression};
 use tiny_skia::{Color, FillRule, Paint, PathBuilder, Transform};
@@ -288,7 +289,7 @@ fn frames_encoded_against_the_frame_before_are_the_bits_of_a_fresh_encoding() {
 fn a_row_compressed_tile_by_tile_is_the_row_compressed_whole() {
     // The frame coder's promise rests on this: Deflate::bytes over a row's aligned
     // tiles, one after the other, writes the bits it writes over the whole row.
-    let codes = codes().expect("readable");
+    let codes = codes();
     let mut row = vec![0u8; 4 * 203];
     for (i, b) in row.iter_mut().enumerate() {
         // Runs of zeros of every length, single zeros inside words, and words
@@ -314,7 +315,7 @@ fn a_row_compressed_tile_by_tile_is_the_row_compressed_whole() {
 fn bit_ranges_are_copied_bit_for_bit_from_any_offset_to_any_offset() {
     // Long ranges take the word-at-a-time path, short ones the 56-bit one; both
     // must append exactly the bits asked for, after any number of bits pending.
-    let codes = codes().expect("readable");
+    let codes = codes();
     let source: Vec<u8> = (0..400u32)
         .map(|i| (i.wrapping_mul(2_654_435_761) >> 13) as u8)
         .collect();
@@ -388,7 +389,7 @@ fn the_word_loop_writes_the_bits_of_its_definition() {
     // words without zeros, single zeros, runs of zeros of every length up to past
     // the longest run one write takes (inside and across blocks of 64 words), and
     // slices of every length and alignment, after any run and bits pending.
-    let codes = codes().expect("readable");
+    let codes = codes();
     let mut state = 0x2545_f491_4f6c_dd1du64;
     let mut random = |n: u64| {
         state ^= state << 13;
@@ -431,4 +432,71 @@ fn the_word_loop_writes_the_bits_of_its_definition() {
         reference.flush_run();
         assert_eq!(quick.into_bits(), reference.into_bits(), "case {case}");
     }
+}
+
+/// Reads bits least significant first.
+struct BitReader<'a> {
+    data: &'a [u8],
+    pos: usize,
+}
+
+impl BitReader<'_> {
+    fn bits(&mut self, count: u32) -> u32 {
+        let mut value = 0;
+        for i in 0..count {
+            let byte = self.data[self.pos / 8];
+            value |= u32::from((byte >> (self.pos % 8)) & 1) << i;
+            self.pos += 1;
+        }
+        value
+    }
+
+    /// Reads one Huffman-coded symbol, most significant code bit first.
+    fn symbol(&mut self, lengths: &[u8], codes: &[u16]) -> usize {
+        let mut code = 0u16;
+        for length in 1..=15u8 {
+            code = code << 1 | self.bits(1) as u16;
+            if let Some(s) = (0..lengths.len()).find(|&s| lengths[s] == length && codes[s] == code)
+            {
+                return s;
+            }
+        }
+        panic!("no symbol at bit {}", self.pos);
+    }
+}
+
+#[test]
+fn the_block_header_reads_back_as_the_fitted_code_lengths() {
+    // Read as RFC 1951 (3.2.7) says a decoder reads it: the header is a last block of
+    // dynamic codes whose lengths are the fitted ones, and it ends where it says.
+    let codes = codes();
+    let mut r = BitReader {
+        data: &codes.header,
+        pos: 0,
+    };
+    assert_eq!((r.bits(1), r.bits(2)), (1, 2), "BFINAL and BTYPE");
+    let hlit = r.bits(5) as usize + 257;
+    let hdist = r.bits(5) as usize + 1;
+    let hclen = r.bits(4) as usize + 4;
+    let mut cl_lengths = [0u8; 19];
+    for &symbol in super::codes::ORDER.iter().take(hclen) {
+        cl_lengths[symbol] = r.bits(3) as u8;
+    }
+    let cl_codes = canonical(&cl_lengths);
+    let lengths: Vec<u8> = (0..hlit + hdist)
+        .map(|_| r.symbol(&cl_lengths, &cl_codes) as u8)
+        .collect();
+    assert_eq!(&lengths[..hlit], &super::codes::LENGTHS[..]);
+    assert_eq!(&lengths[hlit..], &super::codes::DISTANCE_LENGTHS[..]);
+    assert_eq!(r.pos, codes.header_bits);
+    // Both codes are complete (Kraft's sum is 1), as strict decoders demand.
+    for l in [
+        &super::codes::LENGTHS[..],
+        &super::codes::DISTANCE_LENGTHS[..],
+    ] {
+        let kraft: f64 = l.iter().map(|&b| 0.5f64.powi(i32::from(b))).sum();
+        assert_eq!(kraft, 1.0);
+    }
+    // The zlib header's check bits.
+    assert_eq!(u16::from_be_bytes(codes.zlib) % 31, 0);
 }
