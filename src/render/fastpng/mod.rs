@@ -17,11 +17,12 @@
 //! comparing the frame with the static layer ([`StaticPng::encode`]).
 //!
 //! The compressed stream is one DEFLATE block with a Huffman code fitted to
-//! physframes' frames (`codes.rs`): literals, and runs of zeros as matches at distance
-//! 1. So a frame is about 9% smaller than `--compression fastest` makes it (which
-//! uses `fdeflate`'s code for filtered PNG data in general), in less time on busy rows:
-//! the coder's loop does not branch on where nonzero bytes fall. The pixels
-//! must be opaque (premultiplied and straight colour then agree); the caller checks.
+//! physframes' frames (`codes.rs`): literals, and runs of zeros as matches at a
+//! distance of one byte. So a frame is about 9% smaller than `--compression fastest`
+//! makes it (which uses `fdeflate`'s code for filtered PNG data in general), in less
+//! time on busy rows: the coder's loop does not branch on where nonzero bytes fall. The
+//! pixels must be opaque (premultiplied and straight colour then agree); the caller
+//! checks.
 //! Compressing a dirty tile costs more than the same bytes cost inside a whole row, so
 //! a frame with much damage (by a cost model fitted to measurements:
 //! `StaticPng::tiles_pay`) is compressed row by row, every row whole. Either way the
