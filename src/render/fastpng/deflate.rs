@@ -173,8 +173,7 @@ impl<'c> Deflate<'c> {
     pub(super) fn bytes_marked<const MARK: bool>(&mut self, data: &[u8]) -> usize {
         let mut mark = usize::MAX;
         let mut run = self.run;
-        let mut chunks = data.chunks_exact(8);
-        let words = chunks.len();
+        let words = data.len() / 8;
         let word_at = |j: usize| {
             let b = &data[8 * j..8 * j + 8];
             u64::from_le_bytes(b.try_into().unwrap_or_default())
@@ -221,10 +220,9 @@ impl<'c> Deflate<'c> {
             run += 8 * (n - next);
         }
         sink.give(self);
-        // The words were read by index; the remainder is what `chunks_exact` leaves.
-        chunks.by_ref().for_each(drop);
         self.run = run;
-        for &b in chunks.remainder() {
+        // The bytes past the last whole word, one by one.
+        for &b in &data[8 * words..] {
             if b == 0 {
                 self.run += 1;
             } else {
