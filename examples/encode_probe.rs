@@ -75,16 +75,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         };
         let none = Provenance::default();
         let tiles = time(&mut |png| {
-            let _ = encoder.encode_damaged_tiles(&pixmap, &damage, &none, png);
+            encoder.encode_damaged_tiles(&pixmap, &damage, &none, png);
         });
         let whole = time(&mut |png| {
-            let _ = encoder.encode_damaged_tiles(&pixmap, &Damage::whole(), &none, png);
+            encoder.encode_damaged_tiles(&pixmap, &Damage::whole(), &none, png);
         });
         let fdeflate = time(&mut |png| {
             let _ = encode_png_into(png, &pixmap, &none, Compression::Fastest, true);
         });
         let chosen = time(&mut |png| {
-            let _ = encoder.encode_damaged(&pixmap, &damage, &none, png);
+            encoder.encode_damaged(&pixmap, &damage, &none, png);
         });
         println!(
             "{name:20} damaged tiles {:5.1}% | tiles {tiles} | whole rows {whole} | fdeflate {fdeflate} | chosen {chosen}",

@@ -95,7 +95,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let none = Provenance::default();
     let mut png = Vec::new();
     let fast = time(&mut || {
-        let _ = encoder.encode_damaged(&pixmap, &damage, &none, &mut png);
+        encoder.encode_damaged(&pixmap, &damage, &none, &mut png);
     });
     let fast_bytes = png.len();
     let whole = time(&mut || {

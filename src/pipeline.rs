@@ -623,9 +623,9 @@ fn draw_and_write(
             &provenance,
             options.compression,
             buffers.opaque,
-        ),
+        )
+        .map_err(|e| Error::Runtime(format!("cannot encode frame {}: {e}", job.index)))?,
     }
-    .map_err(|e| Error::Runtime(format!("cannot encode frame {}: {e}", job.index)))?;
     let encoded = StageClock::add(&clock.encode, drawn);
     output::write_atomic(&dir.join(output::frame_file_name(job.index)), &buffers.png)?;
     let written = StageClock::add(&clock.write, encoded);

@@ -16,7 +16,7 @@ impl StaticPng {
         provenance: &Provenance,
         out: &mut Vec<u8>,
         always_tiles: bool,
-    ) -> Result<(), png::EncodingError> {
+    ) {
         assert_eq!((frame.width(), frame.height()), (self.width, self.height));
         let tiles_per_row = (4 * self.width as usize).div_ceil(TILE);
         let words = tiles_per_row.div_ceil(64);
@@ -41,7 +41,7 @@ impl StaticPng {
         let dirty_tiles: u32 = dirty.iter().map(|w| w.count_ones()).sum();
         if !always_tiles && !self.tiles_pay(dirty_tiles as usize, height * tiles_per_row) {
             self.encode_whole(frame, provenance, out);
-            return Ok(());
+            return;
         }
         let data = frame.data();
         self.encode_rows(data, provenance, out, |y, dirty_row| {
@@ -62,7 +62,6 @@ impl StaticPng {
                 RowPlan::Tiles
             }
         });
-        Ok(())
     }
 
     /// Whether compressing only the dirty tiles, and copying the others, is quicker

@@ -149,12 +149,7 @@ impl StaticPng {
     /// When most rows differ from the static layer (a sample of every eighth row
     /// decides), reusing tiles saves little and compressing every row whole is
     /// quicker.
-    pub fn encode(
-        &self,
-        frame: &Pixmap,
-        provenance: &Provenance,
-        out: &mut Vec<u8>,
-    ) -> Result<(), png::EncodingError> {
+    pub fn encode(&self, frame: &Pixmap, provenance: &Provenance, out: &mut Vec<u8>) {
         assert_eq!((frame.width(), frame.height()), (self.width, self.height));
         let stride = 4 * self.width as usize;
         let (mut sampled, mut changed) = (0, 0);
@@ -169,10 +164,9 @@ impl StaticPng {
         }
         if 2 * changed > sampled {
             self.encode_whole(frame, provenance, out);
-            return Ok(());
+            return;
         }
         self.encode_tiles(frame, provenance, out);
-        Ok(())
     }
 
     /// Encodes a frame drawn over this static layer, like [`StaticPng::encode`], given
@@ -187,7 +181,7 @@ impl StaticPng {
         damage: &Damage,
         provenance: &Provenance,
         out: &mut Vec<u8>,
-    ) -> Result<(), png::EncodingError> {
+    ) {
         if damage.is_whole() {
             return self.encode(frame, provenance, out);
         }
@@ -203,7 +197,7 @@ impl StaticPng {
         damage: &Damage,
         provenance: &Provenance,
         out: &mut Vec<u8>,
-    ) -> Result<(), png::EncodingError> {
+    ) {
         self.encode_damaged_with(frame, damage, provenance, out, true)
     }
 }
