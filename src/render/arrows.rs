@@ -49,9 +49,9 @@ impl ArrowGeometry {
 /// The shaft (a stroke wider than a pixel, which tiny-skia fills as the rectangle its
 /// stroker builds) and the head (a triangle) are filled by [`raster`], which gives
 /// tiny-skia's bytes for the same points without its set-up per path: the pixels of
-/// [`draw_arrow_path`] inside the image, and within one quarter-pixel sample of them
-/// where an arrow crosses the image's edge (tested). Strokes of a pixel or less, which
-/// tiny-skia draws as hairlines, are drawn by [`draw_arrow_path`].
+/// [`draw_arrow_path`], inside the image and where an arrow crosses its edge (tested).
+/// Strokes of a pixel or less, which tiny-skia draws as hairlines, are drawn by
+/// [`draw_arrow_path`].
 pub fn draw_arrow(
     pixmap: &mut Pixmap,
     clip: &ClipRect,

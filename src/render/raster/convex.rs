@@ -5,6 +5,7 @@ use std::cell::RefCell;
 
 use tiny_skia::Pixmap;
 
+use super::clipper::ImageClip;
 use super::eight::{blend8, prefetch, Span};
 use super::shapes::Ring;
 use super::{Edge, Point};
@@ -16,7 +17,7 @@ use crate::render::sprite::Ink;
 pub fn fill_convex(pixmap: &mut Pixmap, points: &[Point], ink: Ink) {
     CONVEX.with(|c| {
         let c = &mut *c.borrow_mut();
-        c.chains.set(points, &[]);
+        c.chains.set(points, &[], size(pixmap));
         blend_convex(pixmap, &mut c.chains, ink);
     });
 }
@@ -27,9 +28,15 @@ pub fn fill_convex(pixmap: &mut Pixmap, points: &[Point], ink: Ink) {
 pub fn cover_convex(width: u32, height: u32, points: &[Point], put: impl FnMut(usize, u8)) {
     CONVEX.with(|c| {
         let c = &mut *c.borrow_mut();
-        c.chains.set(points, &[]);
-        scan_convex(width as usize, height as usize, &mut c.chains, put);
+        let size = (width as usize, height as usize);
+        c.chains.set(points, &[], size);
+        scan_convex(size.0, size.1, &mut c.chains, put);
     });
+}
+
+/// The pixmap's width and height.
+fn size(pixmap: &Pixmap) -> (usize, usize) {
+    (pixmap.width() as usize, pixmap.height() as usize)
 }
 
 /// Blends `ink` into the pixmap with the coverage of the chains' shape.
@@ -133,7 +140,9 @@ struct Cursor {
 }
 
 impl Chains {
-    fn set(&mut self, outer: &[Point], hole: &[Point]) {
+    /// Takes the edges of `outer` less `hole`, to be filled into an image `width` ×
+    /// `height`, cut to it as tiny-skia cuts a path that reaches outside it.
+    fn set(&mut self, outer: &[Point], hole: &[Point], (width, height): (usize, usize)) {
         for c in &mut self.chains {
             c.clear();
         }
@@ -141,15 +150,18 @@ impl Chains {
         if outer.len() < 3 || !finite(outer) || !finite(hole) {
             return;
         }
+        let clip = ImageClip::new(width, height, &[outer, hole]);
         for (k, points) in [outer, hole].into_iter().enumerate() {
             if points.len() < 3 {
                 continue;
             }
             let mut previous = points[points.len() - 1];
             for &p in points {
-                if let Some(e) = Edge::new(previous, p) {
-                    self.chains[2 * k + usize::from(e.winding < 0)].push(e);
-                }
+                clip.cut(previous, p, |a, b| {
+                    if let Some(e) = Edge::new(a, b) {
+                        self.chains[2 * k + usize::from(e.winding < 0)].push(e);
+                    }
+                });
                 previous = p;
             }
         }
@@ -404,10 +416,11 @@ fn turned(
         // The fill, then the stroke over it.
         CONVEX.with(|c| {
             let c = &mut *c.borrow_mut();
-            c.chains.set(f, &[]);
+            c.chains.set(f, &[], size(pixmap));
             blend_convex(pixmap, &mut c.chains, fill_ink);
-            c.chains.set(o, i);
-            blend_convex(edge_pixmap.unwrap_or(pixmap), &mut c.chains, edge_ink);
+            let edge_pixmap = edge_pixmap.unwrap_or(pixmap);
+            c.chains.set(o, i, size(edge_pixmap));
+            blend_convex(edge_pixmap, &mut c.chains, edge_ink);
         });
     });
 }
