@@ -11,7 +11,7 @@
 //! encoding, the mean PNG size and the fraction of the frame's 8-pixel tiles that were
 //! compressed afresh (the rest copied from the worker's frame before); then, for the
 //! last frame, what encoding it costs with no tile marked, with its own marks again, and
-//! with every tile marked (best of 20).
+//! with every tile marked (best of 20, or of the `RUNS` environment variable).
 
 use std::path::Path;
 use std::sync::Arc;
@@ -85,8 +85,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             (draw, encode, bytes, dirty, n, from) = (0.0, 0.0, 0, 0.0, 0, k + step);
         }
         if last {
+            let runs: usize = std::env::var("RUNS").map_or(Ok(20), |r| r.parse())?;
             let best = |coder: &mut FrameCoder, mask: &TileMask| {
-                (0..20)
+                (0..runs.max(1))
                     .map(|_| {
                         let started = Instant::now();
                         coder.encode(&pixmap, mask, &none);

@@ -5,8 +5,9 @@
 //! drawn into the same pixmap restores only those rectangles from the static layer
 //! instead of copying the whole layer, and the encoder compresses afresh only the tiles
 //! they cover, copying the static layer's compressed bits everywhere else. A frame that
-//! draws anything whose extent is not tracked (arrows, overlays) is damaged whole, and
-//! both stages then do what they would do without damage.
+//! draws anything whose extent is not tracked (arrows, springs, a legend, layers that
+//! change in time) is damaged whole, and both stages then do what they would do
+//! without damage. The HUD is tracked: its box is a rectangle like a body's.
 //!
 //! Frames with trails are compared with the frame before instead of the static layer:
 //! a [`TileMask`] marks the tiles of 8 pixels where the trail layer gained segments and

@@ -430,11 +430,7 @@ impl Renderer {
             return;
         }
         self.restore(pixmap, damage);
-        let bodies_only = self.springs.is_none()
-            && frame.compare.is_none()
-            && self.arrow_bodies.is_empty()
-            && !self.overlay.draws_over_frames();
-        if bodies_only {
+        if self.bodies_and_hud_only(frame) {
             damage.clear();
             self.draw_bodies(frame, pixmap, Some(damage));
             // With axes, bodies are wiped from the margins again, which returns those
@@ -449,6 +445,10 @@ impl Renderer {
                     y1: clamp(area.bottom(), self.height),
                 };
                 damage.keep_inside(inside, |r| copy_rect(pixmap, &self.static_layer, r));
+            }
+            // The HUD over everything, in a box the damage holds.
+            if let Some(r) = self.overlay.draw_hud(pixmap, frame) {
+                damage.add_rect(r, self.width, self.height);
             }
         } else {
             damage.set_whole();
@@ -465,8 +465,9 @@ impl Renderer {
     /// The worker's trail layer gains the segments since its last frame and marks the
     /// tiles they changed; the pixmap is brought to the layer by copying those tiles and
     /// the last frame's bodies' rectangles from it, and the bodies are drawn over it,
-    /// their rectangles kept for the next frame. A frame that draws more than bodies
-    /// over the trails (arrows, springs, overlays, a plot's margins) marks every tile.
+    /// their rectangles kept for the next frame, and so is the HUD's box. A frame that
+    /// draws more over the trails (arrows, springs, a legend, layers that change in
+    /// time, a plot's margins) marks every tile.
     pub fn draw_trail_frame(
         &self,
         frame: &FrameView<'_>,
@@ -509,20 +510,28 @@ impl Renderer {
         } else {
             copy_tiles(pixmap, layer.base(), &state.changed);
         }
-        let bodies_only = self.springs.is_none()
-            && frame.compare.is_none()
-            && self.arrow_bodies.is_empty()
-            && !self.overlay.draws_over_frames()
-            && self.overlay.body_area().is_none();
-        if bodies_only {
+        if self.bodies_and_hud_only(frame) && self.overlay.body_area().is_none() {
             state.bodies.clear();
             self.draw_bodies(frame, pixmap, Some(&mut state.bodies));
+            if let Some(r) = self.overlay.draw_hud(pixmap, frame) {
+                state.bodies.add_rect(r, self.width, self.height);
+            }
             state.changed.add_damage(&state.bodies);
         } else {
             self.draw_moving(frame, pixmap);
             state.bodies.set_whole();
             state.changed.set_whole();
         }
+    }
+
+    /// Returns true when a frame draws nothing over the static layer (and the trails)
+    /// but bodies and, perhaps, the HUD, whose extents the damage holds: no springs,
+    /// arrows, comparison runs, legend or layer that changes in time.
+    fn bodies_and_hud_only(&self, frame: &FrameView<'_>) -> bool {
+        self.springs.is_none()
+            && frame.compare.is_none()
+            && self.arrow_bodies.is_empty()
+            && (!self.overlay.draws_over_frames() || self.overlay.draws_only_the_hud())
     }
 
     /// Makes `pixmap` a copy of the static layer again, rewriting only its damage.

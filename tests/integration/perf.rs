@@ -695,6 +695,15 @@ shape = { circle = { radius = 0.15 } }
     check_damage(&scene(&format!(
         "{BODIES}\n[axes]\ntitle = \"t\"\n[[field]]\nkind = \"vector\"\nf = [\"-y\", \"x\"]\n"
     )));
+    // With the HUD, whose text changes every frame: its box joins the damage, alone
+    // and inside a plot (in a larger frame, where the box is a small part of it).
+    let hud = BODIES.replace(
+        "width = 160\nheight = 90\n",
+        "width = 480\nheight = 270\nhud = true\n",
+    );
+    assert!(hud.contains("hud = true"), "the HUD is on");
+    check_damage(&scene(&hud));
+    check_damage(&scene(&format!("{hud}\n[axes]\ntitle = \"t\"\n")));
 }
 
 /// Draws a dozen frames of moving bodies into one reused pixmap from the last frame's

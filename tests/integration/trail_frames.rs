@@ -109,4 +109,9 @@ fn trail_frames_drawn_against_the_frame_before_are_those_of_a_whole_redraw() {
     // Arrows over the trails: every tile is marked, and the frame is still right.
     let arrows = user_scene(40, 3, true, false);
     check_worker("arrows", &arrows, &[0, 1, 2, 5], None);
+    // The HUD over the trails: its box is marked with the bodies, not every tile,
+    // and its text, which changes every frame, is right in every frame.
+    let hud = mixed.replacen("[render]\n", "[render]\nhud = true\n", 1);
+    assert!(hud.contains("hud = true"), "the HUD is on");
+    check_worker("hud", &hud, &[0, 1, 2, 3, 7, 8, 15], Some(&[0]));
 }

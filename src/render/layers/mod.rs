@@ -128,7 +128,23 @@ impl Overlay {
         if self.legend {
             self.chart.draw_legend(pixmap);
         }
-        if self.hud {
+        self.draw_hud(pixmap, frame);
+    }
+
+    /// Returns true when all that frames draw over the static layer, besides restoring
+    /// its margins, is the HUD: a box of known extent, which the damage can hold.
+    pub fn draws_only_the_hud(&self) -> bool {
+        self.hud && !self.legend && !self.layers.has_dynamic_layers()
+    }
+
+    /// Draws the HUD, when the scene shows it, and returns the pixels it may have
+    /// touched (x0, y0, x1, y1), for the damage.
+    pub fn draw_hud(
+        &self,
+        pixmap: &mut Pixmap,
+        frame: &FrameView<'_>,
+    ) -> Option<(i64, i64, i64, i64)> {
+        self.hud.then(|| {
             hud::draw(
                 pixmap,
                 self.chart.inner_area(),
@@ -137,8 +153,8 @@ impl Overlay {
                 self.frame_count,
                 self.fps,
                 self.scale,
-            );
-        }
+            )
+        })
     }
 
     /// Draws the static (`dynamic == false`) or the dynamic layers at time `t`.
