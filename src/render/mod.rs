@@ -553,7 +553,15 @@ impl Renderer {
     /// arrows.
     fn draw_moving(&self, frame: &FrameView<'_>, pixmap: &mut Pixmap) {
         if let Some(springs) = &self.springs {
-            springs.draw(pixmap, &self.camera, &self.clip, frame.pos, frame.angle);
+            let fast =
+                self.drawing == BodyDrawing::Sprites && springs.len() >= springs::FAST_MIN_SPRINGS;
+            springs.draw(
+                pixmap,
+                &self.camera,
+                &self.clip,
+                (frame.pos, frame.angle),
+                fast,
+            );
         }
         self.draw_bodies(frame, pixmap, None);
         for &i in &self.arrow_bodies {

@@ -1237,3 +1237,59 @@ fn bench_gives_each_scene_its_ratio_to_the_reference_and_trails_their_first_and_
     let text = crate::util::stdout(&out);
     assert!(text.contains("ratio: none (--reference none)"), "{text}");
 }
+
+#[test]
+fn many_springs_covered_by_distance_look_like_tiny_skias_strokes() {
+    // Springs between pairs of bodies at every angle and at distances from 0.1 (a
+    // straight line: shorter than its coil is wide) to 6 (a coil stretched long), some
+    // crossing the image's edge, drawn both ways over a light background.
+    use physframes::render::springs::Springs;
+    let mut text = String::from(
+        "[render]\nwidth = 320\nheight = 180\nshow_springs = true\nview = { min = [0.0, 0.0], max = [16.0, 9.0] }\n",
+    );
+    let pairs = 300;
+    for k in 0..pairs {
+        let a = f64::from(k) * 2.399_963; // the golden angle: every direction.
+        let len = 0.1 + f64::from(k % 20) * 0.31;
+        let (x, y) = (
+            0.4 + f64::from(k % 10) * 1.71 + 0.013 * f64::from(k),
+            0.3 + f64::from(k % 7) * 1.37,
+        );
+        for (i, (px, py)) in [(x, y), (x + len * a.cos(), y + len * a.sin())]
+            .into_iter()
+            .enumerate()
+        {
+            text.push_str(&format!(
+                "[[body]]\nname = \"b{k}_{i}\"\nmass = 1.0\nposition = [{px}, {py}]\n"
+            ));
+        }
+        text.push_str(&format!(
+            "[[force]]\nkind = \"spring\"\na = \"b{k}_0\"\nb = \"b{k}_1\"\nstiffness = 1.0\n"
+        ));
+    }
+    let s = crate::util::scene(&text);
+    let springs = Springs::new(&s).expect("the scene shows springs");
+    assert_eq!(springs.len(), pairs as usize);
+    let camera = physframes::render::Camera::fit(s.render.view, 320, 180);
+    let clip = ClipRect::guard(320, 180);
+    let pos: Vec<glam::DVec2> = s.bodies.iter().map(|b| b.position).collect();
+    let mut fast = Pixmap::new(320, 180).expect("pixmap");
+    fast.fill(Color::from_rgba8(250, 248, 240, 255));
+    let mut paths = fast.clone();
+    let background = fast.clone();
+    springs.draw(&mut fast, &camera, &clip, (&pos, None), true);
+    springs.draw(&mut paths, &camera, &clip, (&pos, None), false);
+    let (largest, count) = diff(&fast, &paths);
+    let covered = diff(&paths, &background).1;
+    let mean = crate::util::total_difference(&fast, &paths) as f64 / covered as f64;
+    eprintln!(
+        "springs: {covered} pixels covered, {count} differ, by {mean:.2}/255 on average and {largest}/255 at most"
+    );
+    assert!(covered > 20_000, "the springs cover pixels ({covered})");
+    // Measured: 5.4/255 on average and 82/255 at most, where the two sides of a sharp
+    // join meet in one pixel (there the distance's ramp falls short of the union's
+    // area). Most of the mean is tiny-skia's own: its four sub-rows a pixel put a
+    // straight line's edges off by up to 1/8 pixel, 3.5 to 12.5 levels on average.
+    assert!(largest <= 96, "springs differ by {largest}/255");
+    assert!(mean <= 6.0, "springs differ by {mean:.2}/255 on average");
+}

@@ -22,8 +22,11 @@
 //! difference that makes against tiny-skia's paths is bounded in
 //! `tests/integration/perf.rs`.
 //!
-//! `convex.rs` walks convex shapes quicker than the general scan here, and `shapes.rs`
-//! builds the polygons of strokes (a line's rectangle, a stroked outline's ring).
+//! `convex.rs` walks convex shapes quicker than the general scan here, `shapes.rs`
+//! builds the polygons of strokes (a line's rectangle, a stroked outline's ring), and
+//! `clipper.rs` cuts a shape's edges to the image as tiny-skia does. `lines.rs` is the
+//! one approximation: thin round-joined polylines (springs' coils) covered by the
+//! distance of each pixel's centre to the line, not by tiny-skia's samples.
 //!
 //! Coordinates must be near the image: callers clip them to the guard band first, where
 //! the fixed-point arithmetic cannot overflow (tiny-skia's limit is 8191 pixels).
@@ -31,6 +34,7 @@
 mod clipper;
 mod convex;
 mod eight;
+mod lines;
 mod shapes;
 
 use std::cell::RefCell;
@@ -42,6 +46,7 @@ use clipper::ImageClip;
 
 pub use convex::{cover_convex, fill_convex, fill_turned, fill_turned_apart};
 pub(crate) use eight::prefetch;
+pub use lines::stroke_polyline;
 pub use shapes::{bar, capsule, Ring};
 
 /// A point in pixels.

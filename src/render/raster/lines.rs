@@ -1,0 +1,303 @@
+//! Thin polylines with round joins and caps, covered by the distance of each pixel's
+//! centre to the line: many springs' coils a frame, where tiny-skia's stroker and
+//! filler spent some 70 µs on each one.
+//!
+//! A stroke w pixels wide with round joins and caps covers the points within w/2 of
+//! its polyline. A pixel whose centre lies at distance d from the polyline is covered
+//! by the ramp
+//!
+//!   c = clamp(w/2 + 1/2 − d, 0, 1),
+//!
+//! which for a straight stroke at least a pixel wide, along a row or a column, is the
+//! exact area of the pixel inside it (the strip w/2 each side of the line over the
+//! pixel's unit width), and close to it at other angles and round the joins. The
+//! distance to the polyline is the least of the distances to its segments, so the
+//! coverage is the largest of the segments' coverages: each segment is covered on its
+//! own into a buffer over the polyline's bounding box, pixel by pixel keeping the
+//! larger, and each pixel is blended once, as tiny-skia blends a stroke ([`Ink`]), with
+//! the coverage rounded to 8 bits, ⌊255·c + 1/2⌋.
+//!
+//! The difference from tiny-skia's stroke of the same points (sixteen samples a pixel,
+//! round parts as curves) is bounded in `tests/integration/every_scene.rs`.
+
+use std::cell::RefCell;
+
+use tiny_skia::Pixmap;
+
+use crate::render::sprite::Ink;
+
+/// Strokes the polyline through `points` (pixels), `width` pixels wide with round
+/// joins and caps, in `ink`, covering each pixel by the distance of its centre to the
+/// polyline (the module's documentation). A polyline with a point that is not finite,
+/// or wholly outside the image, draws nothing.
+pub fn stroke_polyline(pixmap: &mut Pixmap, points: &[(f64, f64)], width: f64, ink: Ink) {
+    let finite = points.iter().all(|p| p.0.is_finite() && p.1.is_finite());
+    if points.is_empty() || !finite || width.is_nan() || width <= 0.0 {
+        return;
+    }
+    // How far from the line a pixel centre may lie and still be covered.
+    let half = 0.5 * width;
+    let reach = half + 0.5;
+    let (w, h) = (i64::from(pixmap.width()), i64::from(pixmap.height()));
+    // The bounding box of the pixels the stroke may cover, within the image.
+    let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
+    for &(x, y) in points {
+        (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x), y1.max(y));
+    }
+    let first_col = ((x0 - reach).floor() as i64).max(0);
+    let end_col = ((x1 + reach).ceil() as i64 + 1).min(w);
+    let first_row = ((y0 - reach).floor() as i64).max(0);
+    let end_row = ((y1 + reach).ceil() as i64 + 1).min(h);
+    if first_col >= end_col || first_row >= end_row {
+        return;
+    }
+    let bw = (end_col - first_col) as usize;
+    let bh = (end_row - first_row) as usize;
+    COVER.with(|cover| {
+        let cover = &mut *cover.borrow_mut();
+        cover.clear();
+        // Three bytes past the box, for the last row's last four pixels.
+        cover.resize(bw * bh + 3, 0);
+        let segments = points.windows(2).map(|s| (s[0], s[1]));
+        // A single point is a dot: a segment of no length.
+        let dot = (points.len() == 1).then(|| (points[0], points[0]));
+        for (a, b) in segments.chain(dot) {
+            cover_segment(cover, (first_col, first_row, bw, bh), a, b, half);
+        }
+        let data = pixmap.data_mut();
+        for (r, row) in cover[..bw * bh].chunks_exact(bw).enumerate() {
+            let start = 4 * ((first_row as usize + r) * w as usize + first_col as usize);
+            let pixels = &mut data[start..start + 4 * bw];
+            // Eight coverages at a time, skipping eight pixels uncovered at once (most
+            // of a coil's box).
+            for (p8, c8) in pixels.chunks_mut(32).zip(row.chunks(8)) {
+                if c8.iter().all(|&c| c == 0) {
+                    continue;
+                }
+                for (p, &c) in p8.chunks_exact_mut(4).zip(c8) {
+                    if c != 0 {
+                        ink.blend(p, c);
+                    }
+                }
+            }
+        }
+    });
+}
+
+thread_local! {
+    /// Each thread's coverage buffer over a polyline's bounding box.
+    static COVER: RefCell<Vec<u8>> = const { RefCell::new(Vec::new()) };
+}
+
+/// Keeps in `cover` (the box of `bw` × `bh` pixels whose top-left pixel is (bx, by))
+/// the larger of each pixel's coverage and the coverage by the segment a → b, stroked
+/// `half` pixels each side.
+fn cover_segment(
+    cover: &mut [u8],
+    (bx, by, bw, bh): (i64, i64, usize, usize),
+    a: (f64, f64),
+    b: (f64, f64),
+    half: f64,
+) {
+    let reach = half + 0.5;
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let len = (dx * dx + dy * dy).sqrt();
+    let (ux, uy) = if len > 1e-12 {
+        (dx / len, dy / len)
+    } else {
+        (1.0, 0.0)
+    };
+    // The segment's box, grown by the reach.
+    let (sx0, sx1) = (a.0.min(b.0) - reach, a.0.max(b.0) + reach);
+    let (sy0, sy1) = (a.1.min(b.1) - reach, a.1.max(b.1) + reach);
+    let rows = ceil(sy0 - 0.5).max(by)..(floor(sy1 - 0.5) + 1).min(by + bh as i64);
+    // The unit normal n = (-uy, ux): a centre within the reach of the segment is within
+    // it of the line, |n·(p − a)| ≤ reach, which bounds each row's columns when the
+    // line is not level.
+    let (nx, ny) = (-uy, ux);
+    for y in rows {
+        let yc = y as f64 + 0.5;
+        let (mut lo, mut hi) = (sx0, sx1);
+        if nx.abs() > 1e-9 {
+            // nx·(x − ax) + ny·(yc − ay) = ±reach.
+            let mid = a.0 - ny * (yc - a.1) / nx;
+            let spread = reach / nx.abs();
+            (lo, hi) = (lo.max(mid - spread), hi.min(mid + spread));
+        }
+        let first = ceil(lo - 0.5).max(bx);
+        let end = (floor(hi - 0.5) + 1).min(bx + bw as i64);
+        if first >= end {
+            continue;
+        }
+        // The row's pixels four at a time, in f32 relative to a: p = (x + 1/2 − ax,
+        // y_c − ay). The buffer holds three bytes past the box, so that the last four
+        // may reach past the row; lanes past `end` are given no coverage, which leaves
+        // what they reach as it is.
+        let seg = Segment {
+            ux: ux as f32,
+            uy: uy as f32,
+            len: len as f32,
+            reach: reach as f32,
+            px0: (first as f64 + 0.5 - a.0) as f32,
+            py: (yc - a.1) as f32,
+        };
+        let row = (y - by) as usize * bw;
+        let mut x = first;
+        while x < end {
+            let k = row + (x - bx) as usize;
+            let quad: &mut [u8; 4] = (&mut cover[k..k + 4]).try_into().expect("four bytes");
+            seg.cover4(quad, (x - first) as f32, (end - x).min(4) as usize);
+            x += 4;
+        }
+    }
+}
+
+/// ⌊v⌋ for a finite v near the image, without a call to the C library (x86-64's
+/// baseline has no rounding instruction).
+#[inline(always)]
+fn floor(v: f64) -> i64 {
+    let i = v as i64;
+    i - i64::from((i as f64) > v)
+}
+
+/// ⌈v⌉, likewise.
+#[inline(always)]
+fn ceil(v: f64) -> i64 {
+    let i = v as i64;
+    i + i64::from((i as f64) < v)
+}
+
+/// One segment seen from one pixel row, in f32 relative to its start a.
+struct Segment {
+    /// The unit direction, and the length.
+    ux: f32,
+    uy: f32,
+    len: f32,
+    /// w/2 + 1/2: how far from the line a covered centre may lie.
+    reach: f32,
+    /// The row's first pixel centre, less a, and the row's centre less a's y.
+    px0: f32,
+    py: f32,
+}
+
+impl Segment {
+    /// Keeps in `quad` the larger of each byte and the coverage of pixel j + i (i =
+    /// 0..4) of the row, counted from its first pixel, for the first `lanes` of them:
+    /// with p = (px0 + j + i, py), t = clamp(p·u, 0, len), e = p − t·u, d = |e|,
+    /// c = ⌊255·clamp(reach − d, 0, 1) + 1/2⌋. The same operations in SSE2 lanes as
+    /// one by one, so the same bytes.
+    #[inline(always)]
+    fn cover4(&self, quad: &mut [u8; 4], j: f32, lanes: usize) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            // SAFETY: every x86-64 processor has SSE2, which the target enables; the
+            // only memory touched is `quad`.
+            unsafe { self.cover4_sse2(quad, j, lanes) }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        for (i, q) in quad.iter_mut().enumerate().take(lanes) {
+            let px = self.px0 + (j + i as f32);
+            let dot = px * self.ux + self.py * self.uy;
+            let t = dot.max(0.0).min(self.len);
+            let (ex, ey) = (px - t * self.ux, self.py - t * self.uy);
+            let d = (ex * ex + ey * ey).sqrt();
+            let c = (self.reach - d).max(0.0).min(1.0);
+            *q = (*q).max((c * 255.0 + 0.5) as i32 as u8);
+        }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    unsafe fn cover4_sse2(&self, quad: &mut [u8; 4], j: f32, lanes: usize) {
+        use std::arch::x86_64::*;
+        let i = _mm_setr_ps(0.0, 1.0, 2.0, 3.0);
+        let px = _mm_add_ps(_mm_set1_ps(self.px0), _mm_add_ps(_mm_set1_ps(j), i));
+        let (ux, uy, py) = (
+            _mm_set1_ps(self.ux),
+            _mm_set1_ps(self.uy),
+            _mm_set1_ps(self.py),
+        );
+        let dot = _mm_add_ps(_mm_mul_ps(px, ux), _mm_mul_ps(py, uy));
+        let t = _mm_min_ps(_mm_max_ps(dot, _mm_setzero_ps()), _mm_set1_ps(self.len));
+        let ex = _mm_sub_ps(px, _mm_mul_ps(t, ux));
+        let ey = _mm_sub_ps(py, _mm_mul_ps(t, uy));
+        let d = _mm_sqrt_ps(_mm_add_ps(_mm_mul_ps(ex, ex), _mm_mul_ps(ey, ey)));
+        let c = _mm_sub_ps(_mm_set1_ps(self.reach), d);
+        let c = _mm_min_ps(_mm_max_ps(c, _mm_setzero_ps()), _mm_set1_ps(1.0));
+        let v = _mm_cvttps_epi32(_mm_add_ps(
+            _mm_mul_ps(c, _mm_set1_ps(255.0)),
+            _mm_set1_ps(0.5),
+        ));
+        // Lanes past the row's end: no coverage.
+        let keep = _mm_cmplt_epi32(_mm_setr_epi32(0, 1, 2, 3), _mm_set1_epi32(lanes as i32));
+        let v = _mm_and_si128(v, keep);
+        // Four 32-bit lanes of 0..=255 to four bytes, then the larger with the buffer's.
+        let v = _mm_packus_epi16(_mm_packs_epi32(v, v), _mm_setzero_si128());
+        let old = _mm_cvtsi32_si128(i32::from_le_bytes(*quad));
+        *quad = _mm_cvtsi128_si32(_mm_max_epu8(v, old)).to_le_bytes();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tiny_skia::Color;
+
+    /// The coverage of white over black: the red channel.
+    fn covered(points: &[(f64, f64)], width: f64, w: u32, h: u32) -> Vec<u8> {
+        let mut pixmap = Pixmap::new(w, h).expect("a pixmap");
+        pixmap.fill(Color::BLACK);
+        stroke_polyline(&mut pixmap, points, width, Ink::of(Color::WHITE));
+        pixmap.data().chunks_exact(4).map(|p| p[0]).collect()
+    }
+
+    #[test]
+    fn a_level_stroke_covers_rows_by_their_area_inside_it() {
+        // A line through the centres of row 5, 1.3 pixels wide: the strip 4.85..6.15
+        // covers row 5 whole and rows 4 and 6 by 0.15 each (⌊0.15·255 + 1/2⌋ = 38),
+        // from x = 3 to x = 17, with round caps past the ends.
+        let c = covered(&[(3.0, 5.5), (17.0, 5.5)], 1.3, 24, 12);
+        let at = |x: usize, y: usize| c[y * 24 + x];
+        for x in 4..16 {
+            assert_eq!((at(x, 4), at(x, 5), at(x, 6)), (38, 255, 38), "column {x}");
+            assert_eq!((at(x, 3), at(x, 7)), (0, 0), "column {x}");
+        }
+        // The caps: pixel 2's centre lies 0.5 before the start, pixel 1's 1.5.
+        assert_eq!(at(2, 5), 166, "⌊(1.15 − 0.5)·255 + 1/2⌋");
+        assert_eq!(at(1, 5), 0);
+        assert_eq!(at(17, 5), 166);
+    }
+
+    #[test]
+    fn joins_take_the_nearer_segment_and_blend_each_pixel_once() {
+        // An L through pixel centres: every pixel of both arms is covered whole, the
+        // corner too, and a translucent ink blended once gives one level everywhere on
+        // the line (blended twice, the corner would be darker).
+        let points = [(2.5, 2.5), (10.5, 2.5), (10.5, 9.5)];
+        let c = covered(&points, 1.3, 16, 16);
+        for x in 2..=10 {
+            assert_eq!(c[2 * 16 + x], 255, "top arm, x = {x}");
+        }
+        for y in 2..=9 {
+            assert_eq!(c[y * 16 + 10], 255, "right arm, y = {y}");
+        }
+        let mut pixmap = Pixmap::new(16, 16).expect("a pixmap");
+        pixmap.fill(Color::WHITE);
+        let grey = Ink::of(Color::from_rgba8(0, 0, 0, 128));
+        stroke_polyline(&mut pixmap, &points, 1.3, grey);
+        let level = |x: u32, y: u32| pixmap.pixel(x, y).expect("inside").red();
+        assert_eq!(level(10, 2), level(5, 2));
+        assert_eq!(level(10, 2), level(10, 6));
+    }
+
+    #[test]
+    fn lines_outside_or_not_finite_draw_nothing() {
+        let none = |points: &[(f64, f64)]| covered(points, 1.3, 8, 8).iter().all(|&c| c == 0);
+        assert!(none(&[(-10.0, -10.0), (-3.0, -2.0)]));
+        assert!(none(&[(20.0, 3.0), (30.0, 3.0)]));
+        assert!(none(&[(1.0, 1.0), (f64::NAN, 3.0)]));
+        assert!(none(&[]));
+        // A line from outside into the image is drawn where it is inside.
+        assert!(!none(&[(-10.0, 4.5), (4.0, 4.5)]));
+    }
+}
