@@ -158,6 +158,8 @@ pub struct Renderer {
     /// converter ([`BodyLook::draw_fast`]): when at least [`SPRITE_MIN_BODIES`] moving
     /// bodies are drawn that way.
     fixed_fast: bool,
+    /// The compared runs' rings as pictures, made when a frame first needs them.
+    ghost_rings: compare::GhostRings,
 }
 
 pub use looks::SPRITE_MIN_BODIES;
@@ -297,6 +299,7 @@ impl Renderer {
             drawing,
             turning_fast,
             fixed_fast,
+            ghost_rings: compare::GhostRings::default(),
         }
     }
 
@@ -583,7 +586,8 @@ impl Renderer {
         }
         self.overlay.draw_frame(pixmap, &self.static_layer, frame);
         if let Some(compare) = frame.compare {
-            compare::draw(pixmap, &self.camera, compare, self.duration);
+            let rings = (self.drawing == BodyDrawing::Sprites).then_some(&self.ghost_rings);
+            compare::draw(pixmap, &self.camera, compare, self.duration, rings);
         }
     }
 

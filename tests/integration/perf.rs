@@ -832,3 +832,89 @@ fn a_picture_of_point_masses_looks_like_its_paths_at_the_snapped_position() {
     assert!(covered > 20_000, "the body covers {covered} pixels");
     assert!(largest <= 4, "largest difference {largest}/255");
 }
+
+#[test]
+fn ghost_rings_of_many_bodies_are_stamped_and_look_like_their_paths() {
+    // 300 bodies compared with RK4: each frame rings the compared run's 300 positions.
+    // From 16 ghosts on they are stamped from pictures of the ring at 8 × 8 sub-pixel
+    // phases, which differ from the ring stroked at the exact position as moving it by
+    // at most 1/16 pixel along each axis does, as every sprite (64/255 at most).
+    let mut text = String::from(
+        "[simulation]\nduration = 1.0\ncompare = [\"rk4\"]\n[render]\nwidth = 640\nheight = 360\nshow_bodies = false\nview = { min = [0.0, 0.0], max = [16.0, 9.0] }\n",
+    );
+    let mut x = 4242u64;
+    let mut next = || {
+        x = x * 16807 % 2_147_483_647;
+        x as f64 / 2_147_483_647.0
+    };
+    for _ in 0..300 {
+        let (px, py, vx, vy) = (
+            0.5 + 15.0 * next(),
+            0.5 + 8.0 * next(),
+            next() - 0.5,
+            next() - 0.5,
+        );
+        text +=
+            &format!("[[body]]\nmass = 1.0\nposition = [{px}, {py}]\nvelocity = [{vx}, {vy}]\n");
+    }
+    text += "[[force]]\nkind = \"drag\"\nk = 0.7\n";
+    let s = scene(&text);
+    let mut comparison = physframes::compare::Comparison::new(&s).expect("compare is set");
+    let t = s.frame_time(5);
+    let compared = comparison.advance_to(t);
+    let state = s.initial_state();
+    let view = FrameView {
+        index: 5,
+        t,
+        pos: &state.pos,
+        vel: &[],
+        angle: None,
+        force: None,
+        trail: None,
+        traces: None,
+        compare: Some(&compared),
+    };
+    let arrows = ArrowScales {
+        velocity: 1.0,
+        force: 1.0,
+    };
+    let stamped = Renderer::with_drawing(&s, arrows, BodyDrawing::Sprites).draw(&view);
+    let paths = Renderer::with_drawing(&s, arrows, BodyDrawing::Paths);
+    let (drawn, background) = (paths.draw(&view), paths.new_frame());
+    // Above the error strip (the bottom quarter, drawn alike both ways): the largest
+    // channel difference, and its mean over the pixels the rings cover.
+    let above = 4 * 640 * (360 - 360 / 4);
+    let pixels = |p: &tiny_skia::Pixmap| {
+        p.data()[..above]
+            .chunks_exact(4)
+            .map(|c| c.to_vec())
+            .collect::<Vec<_>>()
+    };
+    let (a, b, c) = (pixels(&stamped), pixels(&drawn), pixels(&background));
+    let (mut largest, mut total, mut covered) = (0u8, 0u64, 0usize);
+    for ((p, q), r) in a.iter().zip(&b).zip(&c) {
+        let d = p
+            .iter()
+            .zip(q)
+            .map(|(x, y)| x.abs_diff(*y))
+            .max()
+            .unwrap_or(0);
+        largest = largest.max(d);
+        total += u64::from(d);
+        covered += usize::from(q != r || p != r);
+    }
+    let mean = total as f64 / covered as f64;
+    eprintln!("ghost rings: {covered} pixels covered, by {mean:.2}/255 on average and {largest}/255 at most");
+    assert!(covered > 20_000, "the rings cover {covered} pixels");
+    // Stamped, not stroked: snapping moves some edge.
+    assert!(largest > 0, "the rings are stamped");
+    assert!(largest <= 64, "rings differ by {largest}/255");
+    // Measured 4.96: every pixel of a ring two pixels wide is an edge pixel, where the
+    // snap moves coverage, so the mean over them is above the discs' (3·√2 allowed).
+    assert!(mean <= 6.0, "rings differ by {mean:.2}/255 on average");
+    // The strip is the same both ways.
+    assert!(
+        stamped.data()[above..] == drawn.data()[above..],
+        "the error strip"
+    );
+}
