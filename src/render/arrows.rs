@@ -1,12 +1,53 @@
-//! Velocity and force arrows: a shaft and a head, drawn by the scan converter
-//! ([`super::raster`]) with tiny-skia's bytes inside the image, or as tiny-skia's paths
-//! (the reference they are tested against, and what hairlines use).
+//! Velocity and force arrows: the scales that size them for a run, and their shaft
+//! and head, drawn by the scan converter ([`super::raster`]) with tiny-skia's bytes, or
+//! as tiny-skia's paths (the reference they are tested against, and what hairlines
+//! use).
 
+use glam::DVec2;
 use tiny_skia::{Color, FillRule, LineCap, Paint, PathBuilder, Pixmap, Stroke, Transform};
 
 use super::clip::ClipRect;
 use super::raster;
 use super::sprite::Ink;
+use crate::scene::Scene;
+
+/// World length per unit of velocity and per unit of force, for the arrows.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArrowScales {
+    /// World units per unit of speed (that is, seconds).
+    pub velocity: f64,
+    /// World units per unit of force.
+    pub force: f64,
+}
+
+impl ArrowScales {
+    /// Uses the scene's `velocity_scale` and `force_scale`, or else chooses scales so
+    /// that the longest arrow at the start of the run spans a fifth of the view's
+    /// shorter side. The scales stay fixed for the whole run, so arrow lengths can be
+    /// compared between frames.
+    pub fn fit(scene: &Scene, vel: &[DVec2], force: &[DVec2]) -> Self {
+        let view = scene.render.view;
+        let target = 0.2 * (view.max - view.min).min_element();
+        let longest = |xs: &[DVec2], shown: &dyn Fn(usize) -> bool| {
+            xs.iter()
+                .enumerate()
+                .filter(|(i, _)| shown(*i))
+                .map(|(_, v)| v.length())
+                .fold(0.0, f64::max)
+        };
+        let v = longest(vel, &|i| scene.bodies[i].show_velocity);
+        let f = longest(force, &|i| scene.bodies[i].show_force);
+        let r = &scene.render;
+        ArrowScales {
+            velocity: r
+                .velocity_scale
+                .unwrap_or(if v > 0.0 { target / v } else { target }),
+            force: r
+                .force_scale
+                .unwrap_or(if f > 0.0 { target / f } else { target }),
+        }
+    }
+}
 
 /// Where an arrow's parts lie in pixels: the shaft from its start to the head's base,
 /// and the head's tip and two back corners, each as tiny-skia receives it (f32).

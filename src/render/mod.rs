@@ -43,6 +43,7 @@ pub use encode::{encode_png, encode_png_into, Compression, Provenance};
 
 use crate::history::PointHistory;
 use crate::scene::Scene;
+pub use arrows::ArrowScales;
 use arrows::{draw_arrow, draw_arrow_path};
 use clip::ClipRect;
 use damage::{copy_rect, copy_tiles};
@@ -76,44 +77,6 @@ pub struct FrameView<'a> {
     pub traces: Option<&'a PointHistory>,
     /// The compared runs at this frame, when the scene sets `compare`.
     pub compare: Option<&'a crate::compare::CompareFrame>,
-}
-
-/// World length per unit of velocity and per unit of force, for the arrows.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ArrowScales {
-    /// World units per unit of speed (that is, seconds).
-    pub velocity: f64,
-    /// World units per unit of force.
-    pub force: f64,
-}
-
-impl ArrowScales {
-    /// Uses the scene's `velocity_scale` and `force_scale`, or else chooses scales so
-    /// that the longest arrow at the start of the run spans a fifth of the view's
-    /// shorter side. The scales stay fixed for the whole run, so arrow lengths can be
-    /// compared between frames.
-    pub fn fit(scene: &Scene, vel: &[DVec2], force: &[DVec2]) -> Self {
-        let view = scene.render.view;
-        let target = 0.2 * (view.max - view.min).min_element();
-        let longest = |xs: &[DVec2], shown: &dyn Fn(usize) -> bool| {
-            xs.iter()
-                .enumerate()
-                .filter(|(i, _)| shown(*i))
-                .map(|(_, v)| v.length())
-                .fold(0.0, f64::max)
-        };
-        let v = longest(vel, &|i| scene.bodies[i].show_velocity);
-        let f = longest(force, &|i| scene.bodies[i].show_force);
-        let r = &scene.render;
-        ArrowScales {
-            velocity: r
-                .velocity_scale
-                .unwrap_or(if v > 0.0 { target / v } else { target }),
-            force: r
-                .force_scale
-                .unwrap_or(if f > 0.0 { target / f } else { target }),
-        }
-    }
 }
 
 /// Draws frames of one scene.
