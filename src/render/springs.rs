@@ -7,8 +7,9 @@
 //!
 //! A coil is tiny-skia's stroke of its polyline, round-joined, when a scene shows few
 //! springs. A scene that shows many (a cloth of a thousand bodies has two thousand) has
-//! them covered by the distance to the line instead ([`raster::stroke_polyline`]),
-//! some 25 times quicker, within a bound of tiny-skia's pixels stated there.
+//! them covered by the distance to the line instead ([`raster::stroke_polyline`]):
+//! 1935 coils drew in 9.5 ms instead of 71, within a bound of tiny-skia's pixels
+//! stated there.
 
 use glam::DVec2;
 use tiny_skia::{Color, LineCap, LineJoin, Paint, Pixmap, Stroke, Transform};
