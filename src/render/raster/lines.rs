@@ -1,6 +1,6 @@
 //! Thin polylines with round joins and caps, covered by the distance of each pixel's
 //! centre to the line: many springs' coils a frame, where tiny-skia's stroker and
-//! filler spent some 70 µs on each one.
+//! filler spent 37 to 68 µs on each one (1935 coils, 71 to 132 ms a frame).
 //!
 //! A stroke w pixels wide with round joins and caps covers the points within w/2 of
 //! its polyline. A pixel whose centre lies at distance d from the polyline is covered
