@@ -360,11 +360,7 @@ fn discs_of_a_thousand_radii_are_stamped_and_look_like_their_paths() {
     let mut text = String::from(
         "[render]\nwidth = 1280\nheight = 720\nview = { min = [0.0, 0.0], max = [16.0, 9.0] }\n",
     );
-    let mut x = 12345u64;
-    let mut next = || {
-        x = x * 16807 % 2_147_483_647;
-        x as f64 / 2_147_483_647.0
-    };
+    let mut next = crate::util::uniform(12345);
     for _ in 0..1000 {
         let (px, py, r) = (
             0.5 + 15.0 * next(),
@@ -842,11 +838,7 @@ fn ghost_rings_of_many_bodies_are_stamped_and_look_like_their_paths() {
     let mut text = String::from(
         "[simulation]\nduration = 1.0\ncompare = [\"rk4\"]\n[render]\nwidth = 640\nheight = 360\nshow_bodies = false\nview = { min = [0.0, 0.0], max = [16.0, 9.0] }\n",
     );
-    let mut x = 4242u64;
-    let mut next = || {
-        x = x * 16807 % 2_147_483_647;
-        x as f64 / 2_147_483_647.0
-    };
+    let mut next = crate::util::uniform(4242);
     for _ in 0..300 {
         let (px, py, vx, vy) = (
             0.5 + 15.0 * next(),
@@ -874,13 +866,7 @@ fn ghost_rings_of_many_bodies_are_stamped_and_look_like_their_paths() {
         traces: None,
         compare: Some(&compared),
     };
-    let arrows = ArrowScales {
-        velocity: 1.0,
-        force: 1.0,
-    };
-    let stamped = Renderer::with_drawing(&s, arrows, BodyDrawing::Sprites).draw(&view);
-    let paths = Renderer::with_drawing(&s, arrows, BodyDrawing::Paths);
-    let (drawn, background) = (paths.draw(&view), paths.new_frame());
+    let (stamped, drawn, background) = crate::util::frame_both_ways(&s, &view);
     // Above the error strip (the bottom quarter, drawn alike both ways): the largest
     // channel difference, and its mean over the pixels the rings cover.
     let above = tiny_skia::IntRect::from_xywh(0, 0, 640, 360 - 360 / 4).expect("a rectangle");

@@ -193,13 +193,8 @@ pub fn total_difference(a: &tiny_skia::Pixmap, b: &tiny_skia::Pixmap) -> u64 {
 pub fn first_frame_both_ways(
     s: &Scene,
 ) -> (tiny_skia::Pixmap, tiny_skia::Pixmap, tiny_skia::Pixmap) {
-    use physframes::render::{ArrowScales, BodyDrawing, FrameView, Renderer};
-    let arrows = ArrowScales {
-        velocity: 1.0,
-        force: 1.0,
-    };
     let state = s.initial_state();
-    let view = FrameView {
+    let view = physframes::render::FrameView {
         index: 0,
         t: 0.0,
         pos: &state.pos,
@@ -210,9 +205,33 @@ pub fn first_frame_both_ways(
         traces: None,
         compare: None,
     };
-    let fast = Renderer::with_drawing(s, arrows, BodyDrawing::Sprites).draw(&view);
+    frame_both_ways(s, &view)
+}
+
+/// Draws `view` of a scene the fast ways and as tiny-skia's paths (arrows at one world
+/// unit per unit), and returns both and the frame without bodies.
+pub fn frame_both_ways(
+    s: &Scene,
+    view: &physframes::render::FrameView<'_>,
+) -> (tiny_skia::Pixmap, tiny_skia::Pixmap, tiny_skia::Pixmap) {
+    use physframes::render::{ArrowScales, BodyDrawing, Renderer};
+    let arrows = ArrowScales {
+        velocity: 1.0,
+        force: 1.0,
+    };
+    let fast = Renderer::with_drawing(s, arrows, BodyDrawing::Sprites).draw(view);
     let paths = Renderer::with_drawing(s, arrows, BodyDrawing::Paths);
-    (fast, paths.draw(&view), paths.new_frame())
+    (fast, paths.draw(view), paths.new_frame())
+}
+
+/// A seeded generator of numbers in (0, 1) (Park and Miller's minimal standard), for
+/// scenes of many bodies that every run draws alike.
+pub fn uniform(seed: u64) -> impl FnMut() -> f64 {
+    let mut x = seed;
+    move || {
+        x = x * 16807 % 2_147_483_647;
+        x as f64 / 2_147_483_647.0
+    }
 }
 
 /// Returns the state after `steps` steps of the scene's integrator on a pool of
