@@ -5,7 +5,9 @@
 //! parsed once into a document in which every key and value keeps its span
 //! ([`toml::de::DeTable`]); the schema is then tried on it repeatedly, and each value it
 //! rejects is reported and taken out of the document before the next try. What is left
-//! always fits the schema, so the rules in [`super::validate`] run on it too.
+//! always fits the schema, so the rules in [`super::validate`] run on it too. A large
+//! file that fits the schema is first read more quickly in slices ([`super::slices`]),
+//! which give the same raw scene; any other file is read whole, as described here.
 //!
 //! A value taken out because of its type could make a rule report a problem that is
 //! only a consequence (a body whose `mass` was a string "has no mass"), so the rules'
@@ -20,7 +22,7 @@ use sha2::{Digest, Sha256};
 use toml::de::{DeTable, DeValue, Deserializer};
 
 use super::raw::RawScene;
-use super::{overrides, validate, Diagnostic, Scene, SceneError, Sources};
+use super::{overrides, slices, validate, Diagnostic, Scene, SceneError, Sources};
 
 /// Parses and validates the text of a scene file read from `path` (which only names it
 /// in messages); [`Scene::load`] reads the file too.
@@ -68,44 +70,26 @@ pub fn parse_with_overrides(
     overrides: &[String],
 ) -> Result<Scene, SceneError> {
     let error = |diagnostics| SceneError::new(path, text, diagnostics).with_overrides(overrides);
-    let mut root = match DeTable::parse(text) {
-        Ok(root) => root,
-        Err(e) => {
-            // A syntax error stops parsing, so it is reported alone.
-            let message = e.message().trim().to_string();
-            let d = match e.span() {
-                Some(span) => Diagnostic::at(span, message),
-                None => Diagnostic::whole_file(message),
-            };
-            return Err(error(vec![d]));
-        }
-    };
     let sources = Sources {
         file_len: text.len(),
         overrides,
     };
     let mut diagnostics = Vec::new();
-    for (i, arg) in overrides.iter().enumerate() {
-        overrides::apply(root.get_mut(), arg, sources.base(i), &mut diagnostics);
-    }
     let mut pruned = Vec::new();
-    // The schema is first tried on the document itself, which a scene that fits (the
-    // usual case) then spends without a copy: copying 10,000 bodies' tables took a
-    // quarter of parsing them. Only a rejected document is parsed again, with the
-    // same overrides, for fit_schema to take apart.
-    let raw = match RawScene::deserialize(Deserializer::from(root)) {
-        Ok(raw) => {
-            root = toml::Spanned::new(0..0, DeTable::default());
-            Some(raw)
-        }
-        Err(_) => {
-            root = DeTable::parse(text).expect("the text parsed a moment ago");
-            for (i, arg) in overrides.iter().enumerate() {
-                // Their problems were reported the first time.
-                overrides::apply(root.get_mut(), arg, sources.base(i), &mut Vec::new());
-            }
-            fit_schema(&mut root, &mut diagnostics, &mut pruned)
-        }
+    // A large file without overrides is read in slices when it can be (see
+    // super::slices); that way vouches only for a file that fits the schema, and any
+    // other is read whole, which finds and reports every problem.
+    let sliced = match overrides.is_empty() {
+        true => slices::raw_scene(text),
+        false => None,
+    };
+    let (root, raw) = match sliced {
+        Some(raw) => (toml::Spanned::new(0..0, DeTable::default()), Some(raw)),
+        None => match read_whole(text, &sources, &mut diagnostics, &mut pruned) {
+            Ok(read) => read,
+            // A syntax error stops parsing, so it is reported alone.
+            Err(syntax) => return Err(error(vec![syntax])),
+        },
     };
     if let Some(raw) = raw {
         let (scene, rules) = validate::check(path, text, raw);
@@ -130,6 +114,43 @@ pub fn parse_with_overrides(
         diagnostics.push(Diagnostic::whole_file("the scene does not fit the schema"));
     }
     Err(error(diagnostics))
+}
+
+/// Reads the whole text into a document, applies the overrides and tries the schema on
+/// it, taking out and reporting each value it rejects (see [`fit_schema`]). Returns the
+/// document as far as the rules need it (empty when the schema took it whole) and the
+/// raw scene, or the syntax error that stopped parsing.
+fn read_whole<'i>(
+    text: &'i str,
+    sources: &Sources<'i>,
+    diagnostics: &mut Vec<Diagnostic>,
+    pruned: &mut Vec<Pruned>,
+) -> Result<(toml::Spanned<DeTable<'i>>, Option<RawScene>), Diagnostic> {
+    let overrides = sources.overrides;
+    let mut root = DeTable::parse(text).map_err(|e| {
+        let message = e.message().trim().to_string();
+        match e.span() {
+            Some(span) => Diagnostic::at(span, message),
+            None => Diagnostic::whole_file(message),
+        }
+    })?;
+    for (i, arg) in overrides.iter().enumerate() {
+        overrides::apply(root.get_mut(), arg, sources.base(i), diagnostics);
+    }
+    // The schema is first tried on the document itself, which a scene that fits (the
+    // usual case) then spends without a copy: copying 10,000 bodies' tables took a
+    // quarter of parsing them. Only a rejected document is parsed again, with the same
+    // overrides, for fit_schema to take apart.
+    if let Ok(raw) = RawScene::deserialize(Deserializer::from(root)) {
+        return Ok((toml::Spanned::new(0..0, DeTable::default()), Some(raw)));
+    }
+    let mut root = DeTable::parse(text).expect("the text parsed a moment ago");
+    for (i, arg) in overrides.iter().enumerate() {
+        // Their problems were reported the first time.
+        overrides::apply(root.get_mut(), arg, sources.base(i), &mut Vec::new());
+    }
+    let raw = fit_schema(&mut root, diagnostics, pruned);
+    Ok((root, raw))
 }
 
 /// Returns the hash of a scene file with overrides: SHA-256 over the file's bytes, then

@@ -15,6 +15,7 @@ mod inertia;
 pub mod layers;
 mod overrides;
 pub mod raw;
+mod slices;
 pub mod swarm;
 mod validate;
 
