@@ -76,12 +76,19 @@ pub fn parse_with_overrides(
     };
     let mut diagnostics = Vec::new();
     let mut pruned = Vec::new();
-    // A large file without overrides is read in slices when it can be (see
-    // super::slices); that way vouches only for a file that fits the schema, and any
-    // other is read whole, which finds and reports every problem.
-    let sliced = match overrides.is_empty() {
-        true => slices::raw_scene(text),
-        false => None,
+    // A large file is read in slices when it can be (see super::slices), with the
+    // overrides that leave the bodies alone applied to the rest. That way vouches only
+    // for a file that fits the schema and overrides that apply cleanly; any other file
+    // is read whole, which finds and reports every problem.
+    let sliced = match overrides.iter().any(|arg| overrides::may_touch_bodies(arg)) {
+        true => None,
+        false => slices::raw_scene(text, |root| {
+            let mut problems = Vec::new();
+            for (i, arg) in overrides.iter().enumerate() {
+                overrides::apply(root, arg, sources.base(i), &mut problems);
+            }
+            problems.is_empty()
+        }),
     };
     let (root, raw) = match sliced {
         Some(raw) => (toml::Spanned::new(0..0, DeTable::default()), Some(raw)),

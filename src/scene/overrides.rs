@@ -43,6 +43,16 @@ pub(super) fn apply<'i>(
     }
 }
 
+/// Returns true when the override `arg` may change the bodies' tables: its key path
+/// starts with `body`, or it cannot be read at all (the whole-document path then
+/// reports why).
+pub(super) fn may_touch_bodies(arg: &str) -> bool {
+    let Some(eq) = equals_sign(arg) else {
+        return true;
+    };
+    key_path(&arg[..eq], 0).map_or(true, |path| path.first().is_none_or(|s| s.name == "body"))
+}
+
 /// Splits `KEY=VALUE` into the key's segments and the value, with spans offset by
 /// `base`.
 fn parse(arg: &str, base: usize) -> Result<(Vec<Segment>, Spanned<DeValue<'_>>), Diagnostic> {

@@ -11,10 +11,12 @@
 //!
 //! This is only a quicker way to the same [`RawScene`]: every span in it counts from the
 //! start of the whole text, as the whole parse's do (the tests compare the two `Debug`
-//! texts, spans included). Whenever anything is not as the reasoning below assumes (a
-//! slice that does not parse, a body that does not fit the schema, a root key met in two
-//! places), [`raw_scene`] gives up and the front end takes the whole-document path,
-//! which reports every problem with its place as it always has.
+//! texts, spans included). `--set` overrides that leave the bodies alone are applied to
+//! the document of everything but the bodies, which is the whole document's but for the
+//! key `body`. Whenever anything is not as the reasoning below assumes (a slice that
+//! does not parse, a body that does not fit the schema, a root key met in two places, an
+//! override that does not apply), [`raw_scene`] gives up and the front end takes the
+//! whole-document path, which reports every problem with its place as it always has.
 //!
 //! **Why a slice boundary is a real `[[body]]` header.** A slice starts at a line whose
 //! first bytes are `[[body]]`. If the text before it parses, every string, array and
@@ -53,18 +55,27 @@ pub(super) const WHOLE_BELOW: usize = 64 * 1024;
 pub(super) const SLICE_BYTES: usize = 32 * 1024;
 
 /// Returns the raw scene of a text of at least [`WHOLE_BELOW`] bytes read in slices, or
-/// `None` when it is shorter or the whole-document path must read it.
-pub(super) fn raw_scene(text: &str) -> Option<RawScene> {
+/// `None` when it is shorter or the whole-document path must read it. `prepare` is given
+/// the document of everything but the bodies before the schema is tried on it (to apply
+/// `--set` overrides that leave the bodies alone), and gives up by returning false.
+pub(super) fn raw_scene<'i>(
+    text: &'i str,
+    prepare: impl FnOnce(&mut DeTable<'i>) -> bool,
+) -> Option<RawScene> {
     if text.len() < WHOLE_BELOW {
         return None;
     }
-    raw_scene_in_slices(text, SLICE_BYTES)
+    raw_scene_in_slices(text, SLICE_BYTES, prepare)
 }
 
 /// Returns the raw scene of `text` read in slices of at least `slice_bytes` bytes,
 /// whatever its length (the tests cut small files with it), or `None` when the
-/// whole-document path must read it.
-pub(super) fn raw_scene_in_slices(text: &str, slice_bytes: usize) -> Option<RawScene> {
+/// whole-document path must read it; `prepare` as for [`raw_scene`].
+pub(super) fn raw_scene_in_slices<'i>(
+    text: &'i str,
+    slice_bytes: usize,
+    prepare: impl FnOnce(&mut DeTable<'i>) -> bool,
+) -> Option<RawScene> {
     let (starts, headers) = slice_starts(text, slice_bytes);
     let first = *starts.first()?;
     let mut root = DeTable::parse(&text[..first]).ok()?;
@@ -87,6 +98,9 @@ pub(super) fn raw_scene_in_slices(text: &str, slice_bytes: usize) -> Option<RawS
             }
             root.get_mut().insert(key, value);
         }
+    }
+    if !prepare(root.get_mut()) {
+        return None;
     }
     let mut raw = RawScene::deserialize(Deserializer::from(root)).ok()?;
     raw.body = body;

@@ -24,7 +24,7 @@ fn whole(text: &str) -> Option<String> {
 /// Checks that a text read in slices of `slice_bytes`, if it is, gives the raw scene
 /// of the whole text, and returns which way it went.
 fn check(name: &str, text: &str, slice_bytes: usize) -> Way {
-    let Some(sliced) = raw_scene_in_slices(text, slice_bytes) else {
+    let Some(sliced) = raw_scene_in_slices(text, slice_bytes, |_| true) else {
         return Way::Whole;
     };
     let sliced = format!("{sliced:?}");
@@ -139,7 +139,7 @@ fn the_benchmark_of_ten_thousand_bodies_is_read_in_many_slices() {
     let (starts, headers) = slice_starts(&text, SLICE_BYTES);
     assert_eq!(headers, 10_000);
     assert!(starts.len() >= 30, "{} slices", starts.len());
-    let raw = raw_scene(&text).expect("the benchmark is read in slices");
+    let raw = raw_scene(&text, |_| true).expect("the benchmark is read in slices");
     assert_eq!(raw.body.len(), 10_000);
     assert_eq!(Some(format!("{raw:?}")), whole(&text));
 }
@@ -339,7 +339,7 @@ fn every_key_of_a_body_moves_with_its_slice() {
             Way::Sliced
         );
     }
-    let raw = raw_scene_in_slices(&text, 1).expect("read in slices");
+    let raw = raw_scene_in_slices(&text, 1, |_| true).expect("read in slices");
     let last = raw.body.last().expect("80 bodies").get_ref();
     let name = last.name.as_ref().expect("a name");
     assert_eq!(&text[name.span()], "\"all\"");
@@ -529,4 +529,74 @@ fn random_layouts_read_as_the_whole_text_does() {
         sliced > 400 && whole_scene > 400 && no_scene > 400,
         "{sliced} sliced, {whole_scene} scenes read whole, {no_scene} not scenes"
     );
+}
+
+#[test]
+fn overrides_that_leave_the_bodies_alone_are_applied_to_the_rest() {
+    use crate::scene::{overrides, Sources};
+
+    let text = many_bodies(1_000);
+    assert!(text.len() >= WHOLE_BELOW);
+    let sets: Vec<String> = [
+        "simulation.duration=2.0",
+        "force.0.k=0.25",
+        "render.view.max=[20.0, 10.0]",
+        "name=renamed",
+        "render.fps=25",
+    ]
+    .map(String::from)
+    .to_vec();
+    let sources = Sources {
+        file_len: text.len(),
+        overrides: &sets,
+    };
+    fn apply<'i>(root: &mut DeTable<'i>, sets: &'i [String], sources: &Sources<'_>) -> bool {
+        let mut problems = Vec::new();
+        for (i, arg) in sets.iter().enumerate() {
+            overrides::apply(root, arg, sources.base(i), &mut problems);
+        }
+        problems.is_empty()
+    }
+    let sliced = raw_scene(&text, |root| apply(root, &sets, &sources)).expect("read in slices");
+    let mut root = DeTable::parse(&text).expect("valid TOML");
+    assert!(
+        apply(root.get_mut(), &sets, &sources),
+        "the overrides apply"
+    );
+    let whole = RawScene::deserialize(Deserializer::from(root)).expect("fits the schema");
+    assert_eq!(format!("{sliced:?}"), format!("{whole:?}"));
+
+    // Through the front end: the scene is the overridden one, with its hash.
+    let path = Path::new("many.toml");
+    let scene = crate::scene::parse_with_overrides(path, &text, &sets)
+        .map_err(|e| e.to_string())
+        .expect("valid");
+    assert_eq!(scene.simulation.duration, 2.0);
+    assert_eq!(scene.name, "renamed");
+    assert_eq!(scene.render.fps, 25.0);
+    assert_eq!(scene.bodies.len(), 1_000);
+    assert_eq!(
+        scene.source.hash,
+        crate::scene::hash_with_overrides(&text, &sets)
+    );
+
+    // Whether an override may touch the bodies is read from its key path.
+    for (arg, touches) in [
+        ("body.body3.mass=2", true),
+        ("body=1", true),
+        ("\"body\".x=1", true),
+        ("no equals sign", true),
+        ("simulation.dt=0.01", false),
+        ("force.0.k=1", false),
+    ] {
+        assert_eq!(overrides::may_touch_bodies(arg), touches, "{arg}");
+    }
+
+    // An override that does not apply is reported by the whole-document path, at its
+    // place in the argument.
+    let bad = vec!["force.7.k=1".to_string()];
+    let message = crate::scene::parse_with_overrides(path, &text, &bad)
+        .expect_err("there is one force")
+        .to_string();
+    assert!(message.contains("there is no force 7"), "{message}");
 }
