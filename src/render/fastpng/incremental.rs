@@ -173,15 +173,15 @@ impl FrameCoder {
                         // Each copied tile's bits move by the same amount, and its
                         // sums by the difference between the sums before the span.
                         let at = w.bit_position() as u32;
-                        for it in &old[i..j] {
-                            self.next_items.push(Item {
-                                start: it.start - before.start + at,
-                                end: it.end - before.start + at,
-                                sum: it.sum - before.sum + sum,
-                                weighted: it.weighted - before.weighted + weighted,
-                                ..*it
-                            });
-                        }
+                        // Extended from a slice, so that room is made once, not checked
+                        // item by item (the check was most of copying a clean span).
+                        self.next_items.extend(old[i..j].iter().map(|it| Item {
+                            start: it.start - before.start + at,
+                            end: it.end - before.start + at,
+                            sum: it.sum - before.sum + sum,
+                            weighted: it.weighted - before.weighted + weighted,
+                            ..*it
+                        }));
                         w.put_bit_range(stream, before.start as usize, old[j - 1].end as usize);
                         w.run = q - old[j - 1].to as usize;
                     } else {
