@@ -80,15 +80,16 @@ pub fn parse_with_overrides(
     // overrides that leave the bodies alone applied to the rest. That way vouches only
     // for a file that fits the schema and overrides that apply cleanly; any other file
     // is read whole, which finds and reports every problem.
-    let sliced = match overrides.iter().any(|arg| overrides::may_touch_bodies(arg)) {
-        true => None,
-        false => slices::raw_scene(text, |root| {
+    let sliced = if overrides.iter().any(|arg| overrides::may_touch_bodies(arg)) {
+        None
+    } else {
+        slices::raw_scene(text, |root| {
             let mut problems = Vec::new();
             for (i, arg) in overrides.iter().enumerate() {
                 overrides::apply(root, arg, sources.base(i), &mut problems);
             }
             problems.is_empty()
-        }),
+        })
     };
     let (root, raw) = match sliced {
         Some(raw) => (toml::Spanned::new(0..0, DeTable::default()), Some(raw)),
