@@ -236,6 +236,79 @@ impl<'c> Deflate<'c> {
         mark
     }
 
+    /// Compresses whole tiles of [`TILE`] bytes as [`Deflate::bytes`] does (the same
+    /// bits), and calls `tile(k, words, start, end)` for each tile k with a nonzero byte:
+    /// its four little-endian words, the bit position of its first literal (after the
+    /// run before it) and the bit position past its last literal, which
+    /// [`Deflate::bytes_marked`] gives a tile compressed alone. `data.len()` must be a
+    /// multiple of [`TILE`].
+    ///
+    /// This is the loop of `bytes_marked` over a tile's four words, with the sink taken
+    /// once for a stretch of tiles instead of once a tile: compressing a frame's dirty
+    /// tiles one call each cost two and a half times what the same words cost inside a
+    /// whole row.
+    #[inline]
+    pub(super) fn bytes_tiles(
+        &mut self,
+        data: &[u8],
+        mut tile: impl FnMut(usize, [u64; 4], usize, usize),
+    ) {
+        debug_assert_eq!(data.len() % TILE, 0);
+        let tiles = data.len() / TILE;
+        let codes = self.codes;
+        let mut run = self.run;
+        let mut sink = Sink::take(self, SINK_BYTES_PER_WORD * 4 * tiles);
+        for (k, bytes) in data.chunks_exact(TILE).enumerate() {
+            let word = |j: usize| {
+                let b = &bytes[8 * j..8 * j + 8];
+                u64::from_le_bytes(b.try_into().unwrap_or_default())
+            };
+            let words = [word(0), word(1), word(2), word(3)];
+            let mut nonzero = 0u32;
+            for (j, w) in words.iter().enumerate() {
+                nonzero |= u32::from(*w != 0) << j;
+            }
+            if nonzero == 0 {
+                run += TILE;
+                continue;
+            }
+            let mut start = usize::MAX;
+            let mut next = 0;
+            while nonzero != 0 {
+                let j = nonzero.trailing_zeros() as usize;
+                nonzero &= nonzero - 1;
+                run += 8 * (j - next);
+                next = j + 1;
+                let word = words[j];
+                let first = word.trailing_zeros() / 8;
+                let last = 7 - word.leading_zeros() / 8;
+                run += first as usize;
+                match codes.zeros.get(run) {
+                    Some(&(bits, count)) if count <= 56 => sink.emit(bits, count),
+                    // A run too long for one write (the zeros of a clean span before).
+                    _ => {
+                        sink.give(self);
+                        self.run = run;
+                        self.flush_run();
+                        sink = Sink::take(self, SINK_BYTES_PER_WORD * 4 * (tiles - k));
+                    }
+                }
+                start = start.min(sink.bit_position());
+                // 0xff in the bytes first..=last, 0 elsewhere.
+                let keep = (u64::MAX << (8 * first)) & (u64::MAX >> (8 * (7 - last)));
+                let (low, low_count) = half(&codes.packed, word, keep);
+                let (high, high_count) = half(&codes.packed, word >> 32, keep >> 32);
+                sink.emit(low, low_count);
+                sink.emit(high, high_count);
+                run = (7 - last) as usize;
+            }
+            run += 8 * (4 - next);
+            tile(k, words, start, sink.bit_position());
+        }
+        sink.give(self);
+        self.run = run;
+    }
+
     /// Writes the pending run of zeros: one literal zero, then matches at distance 1 of
     /// up to 258 bytes, and at the end literal zeros for a rest shorter than 3.
     #[inline(always)]

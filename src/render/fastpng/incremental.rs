@@ -194,33 +194,55 @@ impl FrameCoder {
                 if d == tiles_per_row {
                     break;
                 }
-                // Dirty tiles d..t, filtered in one pass, then compressed tile by tile.
+                // Dirty tiles d..t, filtered in one pass, then compressed.
                 let t = next_bit(&dirty, d, false).min(tiles_per_row);
                 let (a, b) = (d * TILE, (t * TILE).min(stride));
                 match above {
                     Some(above) => up_filter(&row[a..b], &above[a..b], &mut self.filtered[a..b]),
                     None => self.filtered[a..b].copy_from_slice(&row[a..b]),
                 }
-                for k in d..t {
-                    let (a, b) = (k * TILE, ((k + 1) * TILE).min(stride));
-                    let f = &self.filtered[a..b];
-                    let Some((from, to, s, v)) = tile_bytes(f) else {
-                        w.run += b - a;
-                        continue;
-                    };
-                    let start = w.bytes_marked::<true>(f);
-                    let end = w.bit_position();
-                    self.next_items.push(Item {
-                        from: (a + from) as u32,
-                        to: (a + to) as u32,
-                        start: start as u32,
-                        end: end as u32,
-                        sum,
-                        weighted,
-                    });
-                    // Σ i·f_i = Σ (a + j)·f_j over the row.
-                    sum += s;
-                    weighted += a as u64 * u64::from(s) + u64::from(v);
+                // Whole tiles in one stretch of the bit writer, each nonzero one
+                // recorded with its sums; a short last tile of the row on its own.
+                let whole = (b - a) / TILE;
+                let items = &mut self.next_items;
+                w.bytes_tiles(
+                    &self.filtered[a..a + whole * TILE],
+                    |k, words, start, end| {
+                        let at = a + k * TILE;
+                        let (from, to, s, v) = tile_words(words);
+                        items.push(Item {
+                            from: (at + from) as u32,
+                            to: (at + to) as u32,
+                            start: start as u32,
+                            end: end as u32,
+                            sum,
+                            weighted,
+                        });
+                        // Σ i·f_i = Σ (at + j)·f_j over the row.
+                        sum += s;
+                        weighted += at as u64 * u64::from(s) + u64::from(v);
+                    },
+                );
+                if a + whole * TILE < b {
+                    let at = a + whole * TILE;
+                    let f = &self.filtered[at..b];
+                    match tile_bytes(f) {
+                        None => w.run += b - at,
+                        Some((from, to, s, v)) => {
+                            let start = w.bytes_marked::<true>(f);
+                            let end = w.bit_position();
+                            self.next_items.push(Item {
+                                from: (at + from) as u32,
+                                to: (at + to) as u32,
+                                start: start as u32,
+                                end: end as u32,
+                                sum,
+                                weighted,
+                            });
+                            sum += s;
+                            weighted += at as u64 * u64::from(s) + u64::from(v);
+                        }
+                    }
                 }
                 first = t;
             }
@@ -268,6 +290,24 @@ fn word_sums(w: u64) -> (u32, u32) {
     (se + so, 2 * ve + 2 * vo + so)
 }
 
+/// For a whole tile's filtered bytes f_j as four little-endian words, not all zero,
+/// returns the index of the first nonzero byte, one past the last, Σ f_j and Σ j·f_j.
+#[inline(always)]
+fn tile_words(words: [u64; 4]) -> (usize, usize, u32, u32) {
+    let first = words.iter().position(|w| *w != 0).unwrap_or(0);
+    let last = words.iter().rposition(|w| *w != 0).unwrap_or(first);
+    let from = 8 * first + (words[first].trailing_zeros() / 8) as usize;
+    let to = 8 * last + 8 - (words[last].leading_zeros() / 8) as usize;
+    let (mut s, mut v) = (0u32, 0u32);
+    for (k, w) in words.into_iter().enumerate() {
+        let (ws, wv) = word_sums(w);
+        // Byte j of word k is byte 8·k + j of the tile.
+        s += ws;
+        v += wv + 8 * k as u32 * ws;
+    }
+    (from, to, s, v)
+}
+
 /// For a tile's filtered bytes f_j (at most [`TILE`]), returns `None` when all are zero,
 /// else the index of the first nonzero byte, one past the last, Σ f_j and Σ j·f_j.
 #[inline]
@@ -286,18 +326,10 @@ fn tile_bytes(f: &[u8]) -> Option<(usize, usize, u32, u32)> {
             ])
         };
         let words = [word(0), word(1), word(2), word(3)];
-        let first = words.iter().position(|w| *w != 0)?;
-        let last = words.iter().rposition(|w| *w != 0).unwrap_or(first);
-        let from = 8 * first + (words[first].trailing_zeros() / 8) as usize;
-        let to = 8 * last + 8 - (words[last].leading_zeros() / 8) as usize;
-        let (mut s, mut v) = (0u32, 0u32);
-        for (k, w) in words.into_iter().enumerate() {
-            let (ws, wv) = word_sums(w);
-            // Byte j of word k is byte 8·k + j of the tile.
-            s += ws;
-            v += wv + 8 * k as u32 * ws;
+        if words == [0; 4] {
+            return None;
         }
-        return Some((from, to, s, v));
+        return Some(tile_words(words));
     }
     // The short last tile of a row.
     let from = f.iter().position(|x| *x != 0)?;

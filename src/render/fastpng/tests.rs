@@ -424,6 +424,73 @@ fn the_word_loop_writes_the_bits_of_its_definition() {
     }
 }
 
+#[test]
+fn tiles_in_one_stretch_are_the_tiles_one_by_one() {
+    // The frame coder compresses a run of dirty tiles in one call: the bits, the run
+    // left pending and each nonzero tile's start and end must be those of compressing
+    // the tiles one call each, after any run (also one too long for a single write,
+    // as after a clean span of zeros) and bits pending.
+    let codes = codes();
+    let mut state = 0x9e37_79b9_7f4a_7c15u64;
+    let mut random = |n: u64| {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state % n
+    };
+    for case in 0..400 {
+        let tiles = 1 + random(40) as usize;
+        let mut data = vec![0u8; tiles * TILE];
+        for tile in data.chunks_exact_mut(TILE) {
+            match random(4) {
+                0 => {}
+                1 => tile[random(TILE as u64) as usize] = 1 + random(255) as u8,
+                2 => {
+                    // An anti-aliased edge: RGB with a zero alpha byte.
+                    for (i, b) in tile.iter_mut().enumerate() {
+                        *b = if i % 4 == 3 { 0 } else { random(256) as u8 };
+                    }
+                }
+                _ => {
+                    for b in tile.iter_mut() {
+                        *b = if random(3) == 0 { 0 } else { random(256) as u8 };
+                    }
+                }
+            }
+        }
+        let pending = random(8) as u32;
+        let run = [random(40), random(300), 2000 + random(8000)][case % 3] as usize;
+        let mut quick = Deflate::new(codes, vec![0x5a; case % 13]);
+        let mut reference = Deflate::new(codes, vec![0x5a; case % 13]);
+        for w in [&mut quick, &mut reference] {
+            w.put((1 << pending) - 1, pending);
+            w.run = run;
+        }
+        let mut marks = Vec::new();
+        quick.bytes_tiles(&data, |k, words, start, end| {
+            let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
+            assert_eq!(
+                bytes,
+                data[k * TILE..(k + 1) * TILE],
+                "case {case}, tile {k}"
+            );
+            marks.push((k, start, end));
+        });
+        let mut expected = Vec::new();
+        for (k, tile) in data.chunks_exact(TILE).enumerate() {
+            let start = reference.bytes_marked::<true>(tile);
+            if start != usize::MAX {
+                expected.push((k, start, reference.bit_position()));
+            }
+        }
+        assert_eq!(marks, expected, "case {case}: the tiles' marks");
+        assert_eq!(quick.run, reference.run, "case {case}: the run left");
+        quick.flush_run();
+        reference.flush_run();
+        assert_eq!(quick.into_bits(), reference.into_bits(), "case {case}");
+    }
+}
+
 /// Reads bits least significant first.
 struct BitReader<'a> {
     data: &'a [u8],
