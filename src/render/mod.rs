@@ -571,6 +571,17 @@ impl Renderer {
         mut damage: Option<&mut Damage>,
     ) {
         for (i, (p, &look)) in frame.pos.iter().zip(&self.look_of).enumerate() {
+            // The pixels of a body a few ahead, asked for now: the frame is larger
+            // than the cache, and a stamp otherwise waits for each row it blends.
+            // (Large bodies cost their drawing, not the wait: they are left alone.)
+            if let (Some(q), Some(&ahead)) = (frame.pos.get(i + AHEAD), self.look_of.get(i + AHEAD))
+            {
+                let reach = self.looks[ahead as usize].body.reach() + 3.0;
+                if reach <= PREFETCH_REACH {
+                    let (x, y) = self.camera.to_pixel(*q);
+                    raster::prefetch_around(pixmap.data(), self.width, self.height, x, y, reach);
+                }
+            }
             if self.still.get(i) == Some(&true) {
                 continue;
             }
@@ -668,3 +679,8 @@ impl Renderer {
         }
     }
 }
+
+/// How many bodies ahead [`Renderer::draw_bodies`] asks for pixels, and the largest
+/// reach in pixels of a body whose pixels it asks for.
+const AHEAD: usize = 4;
+const PREFETCH_REACH: f32 = 24.0;

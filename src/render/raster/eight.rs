@@ -44,6 +44,33 @@ pub(crate) fn prefetch<T>(data: &[T], i: usize) {
     let _ = (data, i);
 }
 
+/// Asks for the cache lines of the pixels within `reach` of pixel (x, y), row by row,
+/// of an image `width` × `height` whose pixels are `data`; nothing for a position
+/// outside the image or not finite.
+pub(crate) fn prefetch_around(data: &[u8], width: u32, height: u32, x: f32, y: f32, reach: f32) {
+    if !(x + reach >= 0.0
+        && y + reach >= 0.0
+        && x - reach < width as f32
+        && y - reach < height as f32)
+    {
+        return;
+    }
+    let (w, h) = (width as i64, height as i64);
+    let x0 = ((x - reach) as i64).clamp(0, w - 1) as usize;
+    let x1 = ((x + reach) as i64).clamp(0, w - 1) as usize;
+    let y0 = ((y - reach) as i64).clamp(0, h - 1) as usize;
+    let y1 = ((y + reach) as i64).clamp(0, h - 1) as usize;
+    let stride = 4 * width as usize;
+    for row in y0..=y1 {
+        let at = row * stride;
+        // Every line of the row's stretch: one each 64 bytes, and the last.
+        for k in (4 * x0..4 * x1).step_by(64) {
+            prefetch(data, at + k);
+        }
+        prefetch(data, at + 4 * x1);
+    }
+}
+
 /// Returns column `v` relative to pixel x0's first (4·x0), clamped where every lane's
 /// clamp gives the same and 16 bits hold it: lane j looks at columns 4j..4j + 4, j < 8.
 #[inline(always)]
