@@ -238,6 +238,16 @@ impl TileMask {
         self.bits[y * self.words + t / 64] |= 1 << (t % 64);
     }
 
+    /// Marks the tiles of pixels x0..x1 of row y (inside the mask, x0 < x1).
+    #[inline]
+    pub fn mark_span(&mut self, x0: usize, x1: usize, y: usize) {
+        let tile = TILE_PIXELS as usize;
+        let row = &mut self.bits[y * self.words..(y + 1) * self.words];
+        for t in x0 / tile..=(x1 - 1) / tile {
+            row[t / 64] |= 1 << (t % 64);
+        }
+    }
+
     /// Marks every tile that pixels of `r` fall in.
     pub fn add_rect(&mut self, r: PixelRect) {
         let x1 = r.x1.min(self.width);

@@ -46,7 +46,7 @@ use crate::scene::Scene;
 pub use arrows::ArrowScales;
 use arrows::{draw_arrow, draw_arrow_path};
 use clip::ClipRect;
-use damage::{copy_rect, copy_tiles};
+use damage::{copy_rect, copy_tiles, TileMask};
 use looks::Look;
 use trails::{SharedTrails, TrailFrame, TrailLayer, TrailStyle};
 
@@ -398,7 +398,7 @@ impl Renderer {
         self.restore(pixmap, damage);
         if self.bodies_and_hud_only(frame) {
             damage.clear();
-            self.draw_bodies(frame, pixmap, Some(damage));
+            self.draw_bodies(frame, pixmap, Some(damage), None);
             // With axes, bodies are wiped from the margins again, which returns those
             // pixels to the static layer: only where the bodies drew, after which the
             // damage keeps to the plot.
@@ -471,6 +471,7 @@ impl Renderer {
         state.changed.clear();
         layer.take_changed(&mut state.changed);
         state.changed.add_damage(&state.bodies);
+        state.changed.add_mask(&state.body_tiles);
         if state.changed.is_whole() {
             pixmap.data_mut().copy_from_slice(layer.base().data());
         } else {
@@ -478,11 +479,18 @@ impl Renderer {
         }
         if self.bodies_and_hud_only(frame) && self.overlay.body_area().is_none() {
             state.bodies.clear();
-            self.draw_bodies(frame, pixmap, Some(&mut state.bodies));
+            state.body_tiles.clear();
+            self.draw_bodies(
+                frame,
+                pixmap,
+                Some(&mut state.bodies),
+                Some(&mut state.body_tiles),
+            );
             if let Some(r) = self.overlay.draw_hud(pixmap, frame) {
                 state.bodies.add_rect(r, self.width, self.height);
             }
             state.changed.add_damage(&state.bodies);
+            state.changed.add_mask(&state.body_tiles);
         } else {
             self.draw_moving(frame, pixmap);
             state.bodies.set_whole();
@@ -529,7 +537,7 @@ impl Renderer {
                 fast,
             );
         }
-        self.draw_bodies(frame, pixmap, None);
+        self.draw_bodies(frame, pixmap, None, None);
         for &i in &self.arrow_bodies {
             let i = i as usize;
             let look = &self.looks[self.look_of[i] as usize].body;
@@ -569,6 +577,7 @@ impl Renderer {
         frame: &FrameView<'_>,
         pixmap: &mut Pixmap,
         mut damage: Option<&mut Damage>,
+        mut tiles: Option<&mut TileMask>,
     ) {
         for (i, (p, &look)) in frame.pos.iter().zip(&self.look_of).enumerate() {
             // The pixels of a body a few ahead, asked for now: the frame is larger
@@ -600,8 +609,14 @@ impl Renderer {
                 .or(look.fixed_angle);
             if let Some(damage) = damage.as_deref_mut().filter(|d| !d.is_whole()) {
                 // A turning stamp changes exactly its sprite's rectangle.
+                // With `tiles`, a stamp's tiles are marked row by row instead.
                 if let (Some(sheet), Some(theta)) = (&look.turning, angle) {
-                    damage.add_rect(sheet.footprint(x, y, theta), self.width, self.height);
+                    match tiles.as_deref_mut() {
+                        Some(tiles) => sheet.mark_tiles(tiles, x, y, theta),
+                        None => {
+                            damage.add_rect(sheet.footprint(x, y, theta), self.width, self.height)
+                        }
+                    }
                     sheet.stamp(pixmap, x, y, theta);
                     continue;
                 }
@@ -613,9 +628,10 @@ impl Renderer {
                 }
                 match &look.sprite {
                     // A stamp changes exactly its sprite's rectangle.
-                    Some(sprite) if angle.is_none() => {
-                        damage.add_rect(sprite.footprint(x, y), self.width, self.height)
-                    }
+                    Some(sprite) if angle.is_none() => match tiles.as_deref_mut() {
+                        Some(tiles) => sprite.mark_tiles(tiles, x, y),
+                        None => damage.add_rect(sprite.footprint(x, y), self.width, self.height),
+                    },
                     // A turning convex outline drawn by the scan converter lies in
                     // the box of its turned points, grown for its stroke and
                     // anti-aliasing; a pixel more is spare.

@@ -19,6 +19,7 @@ use std::sync::Arc;
 use tiny_skia::{Color, Pixmap};
 
 use super::bodies::BodyLook;
+use super::damage::TileMask;
 
 /// Sub-pixel phases per axis: positions are snapped to 1/8 of a pixel.
 pub const PHASES: u32 = 8;
@@ -70,6 +71,10 @@ pub(crate) struct Sprite {
     pub(crate) height: usize,
     /// (fill coverage, outline coverage) for each pixel, row after row.
     coverage: Vec<[u8; 2]>,
+    /// For each row, the columns a..b from its first covered pixel to its last: what
+    /// a stamp changes there (a disc's rows are narrower than its rectangle at the
+    /// top and the bottom).
+    spans: Vec<(u16, u16)>,
 }
 
 impl SpriteSheet {
@@ -131,6 +136,15 @@ impl SpriteSheet {
         let sprite = &self.coverage.sprites[(j * PHASES + i) as usize];
         let (x0, y0) = (ix + i64::from(sprite.dx), iy + i64::from(sprite.dy));
         (x0, y0, x0 + sprite.width as i64, y0 + sprite.height as i64)
+    }
+
+    /// Marks in `mask` the tiles of the pixels that [`SpriteSheet::stamp`] at (x, y)
+    /// may change, row by row (see [`Sprite::mark_tiles`]).
+    pub fn mark_tiles(&self, mask: &mut TileMask, x: f32, y: f32) {
+        let (ix, i) = snap(x);
+        let (iy, j) = snap(y);
+        let sprite = &self.coverage.sprites[(j * PHASES + i) as usize];
+        sprite.mark_tiles(mask, ix + i64::from(sprite.dx), iy + i64::from(sprite.dy));
     }
 
     /// Stamps the look with its centre at pixel (x, y), snapped to the nearest
@@ -260,14 +274,43 @@ impl Sprite {
                 width: 0,
                 height: 0,
                 coverage: Vec::new(),
+                spans: Vec::new(),
             };
         };
+        let spans = coverage
+            .chunks_exact(width)
+            .map(|row| {
+                let a = row.iter().position(|c| *c != [0, 0]).unwrap_or(0);
+                let b = row.iter().rposition(|c| *c != [0, 0]).map_or(a, |l| l + 1);
+                // Sprites are a few dozen pixels wide; a wider row is marked whole.
+                match (u16::try_from(a), u16::try_from(b)) {
+                    (Ok(a), Ok(b)) => (a, b),
+                    _ => (0, u16::MAX),
+                }
+            })
+            .collect();
         Sprite {
             dx: dx + x0 as i32,
             dy: dy + y0 as i32,
             width,
             height,
             coverage,
+            spans,
+        }
+    }
+
+    /// Marks in `mask` the tiles of every pixel that [`Sprite::stamp`] with the
+    /// sprite's top-left pixel at (x, y) may change, row by row: each row's span of
+    /// covered pixels, not the sprite's whole rectangle.
+    pub(crate) fn mark_tiles(&self, mask: &mut TileMask, x: i64, y: i64) {
+        let (w, h) = mask.size();
+        let (w, h) = (i64::from(w), i64::from(h));
+        for (row, &(a, b)) in self.spans.iter().enumerate() {
+            let py = y + row as i64;
+            let (x0, x1) = ((x + i64::from(a)).max(0), (x + i64::from(b)).min(w));
+            if py >= 0 && py < h && x0 < x1 {
+                mask.mark_span(x0 as usize, x1 as usize, py as usize);
+            }
         }
     }
 
@@ -354,5 +397,65 @@ mod tests {
         assert_eq!(snap(10.95), (11, 0));
         assert_eq!(snap(-0.125), (-1, 7));
         assert_eq!(snap(-3.0), (-3, 0));
+    }
+
+    #[test]
+    fn a_stamps_tiles_are_marked_row_by_row() {
+        // A disc with an outline: the tiles marked are those of the pixels whose
+        // coverage is not zero, row by row, wherever the sprite is placed (partly
+        // outside the frame too), and the stamp changes no pixel outside them.
+        use crate::render::damage::TILE_PIXELS;
+        use tiny_skia::{FillRule, Paint, PathBuilder, Stroke, Transform};
+        let (mut fill, mut edge) = (
+            Pixmap::new(21, 21).expect("size"),
+            Pixmap::new(21, 21).expect("size"),
+        );
+        let disc = PathBuilder::from_circle(10.3, 10.6, 7.0).expect("a circle");
+        let paint = Paint::default();
+        fill.fill_path(
+            &disc,
+            &paint,
+            FillRule::Winding,
+            Transform::identity(),
+            None,
+        );
+        let stroke = Stroke {
+            width: 1.5,
+            ..Stroke::default()
+        };
+        edge.stroke_path(&disc, &paint, &stroke, Transform::identity(), None);
+        let sprite = Sprite::trimmed(&fill, &edge, -10, -10);
+        let (w, h) = (37u32, 19u32);
+        for (x, y) in [(3, 4), (0, 0), (-5, 7), (30, 2), (33, -4), (12, 15), (9, 1)] {
+            let mut mask = TileMask::new(w, h);
+            mask.clear();
+            sprite.mark_tiles(&mut mask, x, y);
+            let mut expected = TileMask::new(w, h);
+            expected.clear();
+            for row in 0..sprite.height {
+                for col in 0..sprite.width {
+                    let (px, py) = (x + col as i64, y + row as i64);
+                    let inside = (0..i64::from(w)).contains(&px) && (0..i64::from(h)).contains(&py);
+                    if inside && sprite.coverage[row * sprite.width + col] != [0, 0] {
+                        expected.mark(px as usize, py as usize);
+                    }
+                }
+            }
+            let mut pixmap = Pixmap::new(w, h).expect("size");
+            pixmap.fill(Color::WHITE);
+            let before = pixmap.clone();
+            let red = Color::from_rgba8(200, 30, 30, 255);
+            sprite.stamp(&mut pixmap, x, y, Ink::of(Color::BLACK), Ink::of(red));
+            for py in 0..h as usize {
+                assert_eq!(mask.row(py), expected.row(py), "at ({x}, {y}), row {py}");
+                for px in 0..w as usize {
+                    let k = 4 * (py * w as usize + px);
+                    if pixmap.data()[k..k + 4] != before.data()[k..k + 4] {
+                        let t = px / TILE_PIXELS as usize;
+                        assert!((mask.row(py)[t / 64] >> (t % 64)) & 1 == 1, "({px}, {py})");
+                    }
+                }
+            }
+        }
     }
 }

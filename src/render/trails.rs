@@ -78,6 +78,9 @@ pub struct TrailFrame {
     /// The rectangles of the bodies drawn over the layer in the last frame (whole when
     /// something else was drawn, or nothing is known).
     pub(super) bodies: super::Damage,
+    /// The tiles of the stamps among them, marked row by row; meaningful only when
+    /// `bodies` is not whole.
+    pub(super) body_tiles: TileMask,
     /// The tiles of pixels where the last frame drawn may differ from the one before.
     pub(super) changed: TileMask,
     /// The render's shared rasterisation of the segments and this worker's number in
@@ -94,6 +97,7 @@ impl TrailFrame {
         TrailFrame {
             layer: None,
             bodies,
+            body_tiles: TileMask::new(width, height),
             changed: TileMask::new(width, height),
             shared: None,
         }

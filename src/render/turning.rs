@@ -141,6 +141,19 @@ impl TurningSheet {
         (x0, y0, x0 + sprite.width as i64, y0 + sprite.height as i64)
     }
 
+    /// Marks in `mask` the tiles of the pixels that [`TurningSheet::stamp`] at (x, y)
+    /// and `theta` may change, row by row.
+    pub fn mark_tiles(
+        &self,
+        mask: &mut crate::render::damage::TileMask,
+        x: f32,
+        y: f32,
+        theta: f64,
+    ) {
+        let (sprite, x0, y0) = self.coverage.sprite(x, y, theta);
+        sprite.mark_tiles(mask, x0, y0);
+    }
+
     /// Stamps the look with its centre at pixel (x, y) turned by `theta`, both rounded
     /// as the module explains. Parts outside the pixmap are skipped.
     pub fn stamp(&self, pixmap: &mut Pixmap, x: f32, y: f32, theta: f64) {
