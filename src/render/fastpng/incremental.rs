@@ -203,13 +203,9 @@ impl FrameCoder {
                 }
                 // Whole tiles in one stretch of the bit writer, each nonzero one
                 // recorded with its sums; a short last tile of the row on its own.
-                let whole = (b - a) / TILE;
                 let items = &mut self.next_items;
-                w.bytes_tiles(
-                    &self.filtered[a..a + whole * TILE],
-                    |k, words, start, end| {
-                        let at = a + k * TILE;
-                        let (from, to, s, v) = tile_words(words);
+                let mut record =
+                    |at: usize, (from, to, s, v): (usize, usize, u32, u32), start, end| {
                         items.push(Item {
                             from: (at + from) as u32,
                             to: (at + to) as u32,
@@ -221,26 +217,22 @@ impl FrameCoder {
                         // Σ i·f_i = Σ (at + j)·f_j over the row.
                         sum += s;
                         weighted += at as u64 * u64::from(s) + u64::from(v);
+                    };
+                let whole = (b - a) / TILE;
+                w.bytes_tiles(
+                    &self.filtered[a..a + whole * TILE],
+                    |k, words, start, end| {
+                        record(a + k * TILE, tile_words(words), start, end);
                     },
                 );
-                if a + whole * TILE < b {
-                    let at = a + whole * TILE;
+                let at = a + whole * TILE;
+                if at < b {
                     let f = &self.filtered[at..b];
                     match tile_bytes(f) {
                         None => w.run += b - at,
-                        Some((from, to, s, v)) => {
+                        Some(bytes) => {
                             let start = w.bytes_marked::<true>(f);
-                            let end = w.bit_position();
-                            self.next_items.push(Item {
-                                from: (at + from) as u32,
-                                to: (at + to) as u32,
-                                start: start as u32,
-                                end: end as u32,
-                                sum,
-                                weighted,
-                            });
-                            sum += s;
-                            weighted += at as u64 * u64::from(s) + u64::from(v);
+                            record(at, bytes, start, w.bit_position());
                         }
                     }
                 }

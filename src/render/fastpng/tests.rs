@@ -373,6 +373,16 @@ fn bytes_by_definition(w: &mut Deflate<'_>, data: &[u8]) -> usize {
     mark
 }
 
+/// A xorshift generator from `seed` (not zero): each call gives a number below `n`.
+fn xorshift(mut state: u64) -> impl FnMut(u64) -> u64 {
+    move |n| {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state % n
+    }
+}
+
 #[test]
 fn the_word_loop_writes_the_bits_of_its_definition() {
     // Busy stretches like anti-aliased edges (a zero alpha byte in every pixel),
@@ -380,13 +390,7 @@ fn the_word_loop_writes_the_bits_of_its_definition() {
     // the longest run one write takes (inside and across blocks of 64 words), and
     // slices of every length and alignment, after any run and bits pending.
     let codes = codes();
-    let mut state = 0x2545_f491_4f6c_dd1du64;
-    let mut random = |n: u64| {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        state % n
-    };
+    let mut random = xorshift(0x2545_f491_4f6c_dd1d);
     for case in 0..400 {
         let len = random(3000) as usize;
         let mut data = Vec::with_capacity(len);
@@ -431,13 +435,7 @@ fn tiles_in_one_stretch_are_the_tiles_one_by_one() {
     // the tiles one call each, after any run (also one too long for a single write,
     // as after a clean span of zeros) and bits pending.
     let codes = codes();
-    let mut state = 0x9e37_79b9_7f4a_7c15u64;
-    let mut random = |n: u64| {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        state % n
-    };
+    let mut random = xorshift(0x9e37_79b9_7f4a_7c15);
     for case in 0..400 {
         let tiles = 1 + random(40) as usize;
         let mut data = vec![0u8; tiles * TILE];
