@@ -571,7 +571,8 @@ impl Renderer {
     }
 
     /// Draws the bodies in index order, adding to `damage`, when given, a rectangle
-    /// around each body drawn.
+    /// around each body drawn; with `tiles` as well, a stamp marks its tiles there row
+    /// by row instead of adding its rectangle.
     fn draw_bodies(
         &self,
         frame: &FrameView<'_>,
@@ -583,10 +584,12 @@ impl Renderer {
             // The pixels of a body a few ahead, asked for now: the frame is larger
             // than the cache, and a stamp otherwise waits for each row it blends.
             // (Large bodies cost their drawing, not the wait: they are left alone.)
-            if let (Some(q), Some(&ahead)) = (frame.pos.get(i + AHEAD), self.look_of.get(i + AHEAD))
-            {
+            if let (Some(q), Some(&ahead)) = (
+                frame.pos.get(i + raster::AHEAD),
+                self.look_of.get(i + raster::AHEAD),
+            ) {
                 let reach = self.looks[ahead as usize].body.reach() + 3.0;
-                if reach <= PREFETCH_REACH {
+                if reach <= raster::PREFETCH_REACH {
                     let (x, y) = self.camera.to_pixel(*q);
                     raster::prefetch_around(pixmap.data(), self.width, self.height, x, y, reach);
                 }
@@ -695,8 +698,3 @@ impl Renderer {
         }
     }
 }
-
-/// How many bodies ahead [`Renderer::draw_bodies`] asks for pixels, and the largest
-/// reach in pixels of a body whose pixels it asks for.
-const AHEAD: usize = 4;
-const PREFETCH_REACH: f32 = 24.0;

@@ -71,8 +71,8 @@ impl TrailStyle {
 
 /// What a worker keeps to draw frames with trails that it encodes against the frame
 /// before ([`crate::render::fastpng::FrameCoder`]): its trail layer, the rectangles of
-/// the bodies it last drew (its stamps' tiles, row by row), and the tiles where its pixmap changed with the last frame
-/// ([`crate::render::Renderer::draw_trail_frame`]).
+/// the bodies it last drew (its stamps' tiles, row by row), and the tiles where its
+/// pixmap changed with the last frame ([`crate::render::Renderer::draw_trail_frame`]).
 pub struct TrailFrame {
     pub(super) layer: Option<TrailLayer>,
     /// The rectangles of the bodies drawn over the layer in the last frame (whole when

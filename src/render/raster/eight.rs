@@ -44,6 +44,12 @@ pub(crate) fn prefetch<T>(data: &[T], i: usize) {
     let _ = (data, i);
 }
 
+/// How many bodies ahead the renderer asks for a body's pixels ([`prefetch_around`]),
+/// and the largest reach in pixels of a body whose pixels it asks for (larger ones
+/// cost their drawing, not the wait).
+pub(crate) const AHEAD: usize = 4;
+pub(crate) const PREFETCH_REACH: f32 = 24.0;
+
 /// Asks for the cache lines of the pixels within `reach` of pixel (x, y), row by row,
 /// of an image `width` × `height` whose pixels are `data`; nothing for a position
 /// outside the image or not finite.

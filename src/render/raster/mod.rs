@@ -45,7 +45,7 @@ use super::sprite::Ink;
 use clipper::ImageClip;
 
 pub use convex::{cover_convex, fill_convex, fill_turned, fill_turned_apart};
-pub(crate) use eight::{prefetch, prefetch_around};
+pub(crate) use eight::{prefetch, prefetch_around, AHEAD, PREFETCH_REACH};
 pub use lines::stroke_polyline;
 pub use shapes::{bar, capsule, Ring};
 
