@@ -74,7 +74,7 @@ pub(crate) struct Sprite {
     /// For each row, the columns a..b from its first covered pixel to its last: what
     /// a stamp changes there (a disc's rows are narrower than its rectangle at the
     /// top and the bottom).
-    spans: Vec<(u16, u16)>,
+    spans: Vec<(usize, usize)>,
 }
 
 impl SpriteSheet {
@@ -282,11 +282,7 @@ impl Sprite {
             .map(|row| {
                 let a = row.iter().position(|c| *c != [0, 0]).unwrap_or(0);
                 let b = row.iter().rposition(|c| *c != [0, 0]).map_or(a, |l| l + 1);
-                // Sprites are a few dozen pixels wide; a wider row is marked whole.
-                match (u16::try_from(a), u16::try_from(b)) {
-                    (Ok(a), Ok(b)) => (a, b),
-                    _ => (0, u16::MAX),
-                }
+                (a, b)
             })
             .collect();
         Sprite {
@@ -307,7 +303,7 @@ impl Sprite {
         let (w, h) = (i64::from(w), i64::from(h));
         for (row, &(a, b)) in self.spans.iter().enumerate() {
             let py = y + row as i64;
-            let (x0, x1) = ((x + i64::from(a)).max(0), (x + i64::from(b)).min(w));
+            let (x0, x1) = ((x + a as i64).max(0), (x + b as i64).min(w));
             if py >= 0 && py < h && x0 < x1 {
                 mask.mark_span(x0 as usize, x1 as usize, py as usize);
             }

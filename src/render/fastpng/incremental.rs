@@ -300,30 +300,10 @@ fn tile_words(words: [u64; 4]) -> (usize, usize, u32, u32) {
     (from, to, s, v)
 }
 
-/// For a tile's filtered bytes f_j (at most [`TILE`]), returns `None` when all are zero,
-/// else the index of the first nonzero byte, one past the last, Σ f_j and Σ j·f_j.
-#[inline]
+/// For filtered bytes f_j, returns `None` when all are zero, else the index of the
+/// first nonzero byte, one past the last, Σ f_j and Σ j·f_j, byte by byte: for a row's
+/// short last tile (whole tiles go through [`tile_words`]).
 fn tile_bytes(f: &[u8]) -> Option<(usize, usize, u32, u32)> {
-    if let Ok(tile) = <&[u8; TILE]>::try_from(f) {
-        let word = |k: usize| {
-            u64::from_le_bytes([
-                tile[8 * k],
-                tile[8 * k + 1],
-                tile[8 * k + 2],
-                tile[8 * k + 3],
-                tile[8 * k + 4],
-                tile[8 * k + 5],
-                tile[8 * k + 6],
-                tile[8 * k + 7],
-            ])
-        };
-        let words = [word(0), word(1), word(2), word(3)];
-        if words == [0; 4] {
-            return None;
-        }
-        return Some(tile_words(words));
-    }
-    // The short last tile of a row.
     let from = f.iter().position(|x| *x != 0)?;
     let to = f.iter().rposition(|x| *x != 0).map_or(from, |l| l + 1);
     let (mut s, mut v) = (0u32, 0u32);
@@ -367,8 +347,13 @@ mod tests {
             let from = tile.iter().position(|x| *x != 0);
             let to = tile.iter().rposition(|x| *x != 0).map(|l| l + 1);
             let expected = from.zip(to).map(|(f, t)| (f, t, s, v));
+            let words: [u64; 4] = std::array::from_fn(|k| {
+                u64::from_le_bytes(tile[8 * k..8 * k + 8].try_into().expect("eight bytes"))
+            });
+            let lanes = (words != [0; 4]).then(|| tile_words(words));
+            assert_eq!(lanes, expected, "{tile:?}");
             assert_eq!(tile_bytes(tile), expected, "{tile:?}");
-            // The short last tile of a row takes the other path, with the same sums.
+            // The short last tile of a row takes the byte path, with the same sums.
             let short = &tile[..TILE - 3];
             let s: u32 = short.iter().map(|&x| u32::from(x)).sum();
             let v: u32 = short
