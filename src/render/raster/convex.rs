@@ -58,32 +58,33 @@ fn blend_convex(pixmap: &mut Pixmap, chains: &mut Chains, ink: Ink) {
 /// without a branch on where they end (`eight.rs`), and one by one only where eight
 /// pixels would pass the image's right edge.
 fn blend_plain(data: &mut [u8], width: usize, height: usize, chains: &mut Chains, ink: Ink) {
-    let max_column = 4 * width as i64;
-    let (first, end) = chains.rows();
-    let (first, end) = (first.max(0), end.min(4 * height as i64));
-    if first >= end {
+    #[cfg(target_arch = "x86_64")]
+    if width <= super::avx2::MAX_WIDTH && super::avx2::available() {
+        // SAFETY: the processor has AVX2, just checked.
+        unsafe { super::avx2::blend_plain(data, width, height, chains, ink) };
         return;
     }
-    let column = |v: i64| ((v + 0x8000) >> 16).clamp(0, max_column);
+    blend_plain_sse2(data, width, height, chains, ink);
+}
+
+/// [`blend_plain`] eight pixels at a time with SSE2 (or lane by lane where there is
+/// none), on every processor: what the AVX2 version is tested against.
+pub(super) fn blend_plain_sse2(
+    data: &mut [u8],
+    width: usize,
+    height: usize,
+    chains: &mut Chains,
+    ink: Ink,
+) {
+    let (first, end) = chains.rows();
+    let (first, end) = (first.max(0), end.min(4 * height as i64));
     let mut sy = first;
     while sy < end {
         let py = (sy >> 2) as usize;
-        let row_end = (((sy >> 2) + 1) * 4).min(end);
-        // The row's spans by sub-row, none where a sub-row has none.
-        let mut spans: [Span; 4] = [(0, 0, 64); 4];
-        let (mut lo, mut hi) = (i64::MAX, 0i64);
-        while sy < row_end {
-            if let (Some(up), Some(down)) = (chains.crossing(0, sy), chains.crossing(1, sy)) {
-                let (a, b) = (column(up.min(down)), column(up.max(down)));
-                if a < b {
-                    lo = lo.min(a >> 2);
-                    hi = hi.max((b + 3) >> 2);
-                    spans[(sy & 3) as usize] = (a, b, 64 - u16::from(sy & 3 == 3));
-                }
-            }
-            sy += 1;
-        }
-        let hi = hi.min(width as i64);
+        let row = chains.row_spans(sy, end, width);
+        sy = row.next;
+        let (lo, hi) = (row.lo, row.hi);
+        let spans = row.spans();
         let base = py * width;
         if lo < hi {
             // The pixels two rows down, where the shape most likely goes on: an
@@ -102,19 +103,50 @@ fn blend_plain(data: &mut [u8], width: usize, height: usize, chains: &mut Chains
             blend8(px, x, &spans, &ink);
             x += 8;
         }
-        while x < hi {
-            let mut c = 0u16;
-            for &(a, b, full) in &spans {
-                let o = (b.min(4 * x + 4) - a.max(4 * x)).max(0);
-                c += if o == 4 { full } else { 16 * o as u16 };
-            }
-            if c != 0 {
-                let k = 4 * (base + x as usize);
-                // Skia's runs cap a sum of 256 at 255: (a - (a >> 8)).
-                ink.blend(&mut data[k..k + 4], (c - (c >> 8)).min(255) as u8);
-            }
-            x += 1;
+        blend_tail(data, base, x, hi, &spans, &ink);
+    }
+}
+
+/// Blends pixels x..hi of the row that starts at pixel `base`, one by one, with the
+/// coverage of `spans`: where eight pixels at a time would pass the image's edge.
+pub(super) fn blend_tail(
+    data: &mut [u8],
+    base: usize,
+    x: i64,
+    hi: i64,
+    spans: &[Span; 4],
+    ink: &Ink,
+) {
+    for x in x..hi {
+        let mut c = 0u16;
+        for &(a, b, full) in spans {
+            let o = (b.min(4 * x + 4) - a.max(4 * x)).max(0);
+            c += if o == 4 { full } else { 16 * o as u16 };
         }
+        if c != 0 {
+            let k = 4 * (base + x as usize);
+            // Skia's runs cap a sum of 256 at 255: (a - (a >> 8)).
+            ink.blend(&mut data[k..k + 4], (c - (c >> 8)).min(255) as u8);
+        }
+    }
+}
+
+/// One pixel row of a convex polygon without a hole, as quarter-pixel columns: the
+/// span a[k]..b[k] of each sub-row k (a = b = 0 where it has none), the pixels lo..hi
+/// the spans touch (clipped to the image's width; empty when lo >= hi), and the first
+/// sub-row of the next pixel row.
+pub(super) struct RowSpans {
+    pub a: [i64; 4],
+    pub b: [i64; 4],
+    pub lo: i64,
+    pub hi: i64,
+    pub next: i64,
+}
+
+impl RowSpans {
+    /// The spans with their sub-rows' full weights (64, or 63 in the last sub-row).
+    pub fn spans(&self) -> [Span; 4] {
+        std::array::from_fn(|k| (self.a[k], self.b[k], 64 - u16::from(k == 3)))
     }
 }
 
@@ -122,7 +154,7 @@ fn blend_plain(data: &mut [u8], width: usize, height: usize, chains: &mut Chains
 /// edges going down (winding +1) and those going up, each in order of their sub-rows,
 /// which for a convex polygon follow one another without a gap.
 #[derive(Default)]
-struct Chains {
+pub(super) struct Chains {
     /// The polygon's two chains, then the hole's.
     chains: [Vec<Edge>; 4],
     /// Where each chain is: its current edge, the sub-row and x it was last asked for.
@@ -142,7 +174,7 @@ struct Cursor {
 impl Chains {
     /// Takes the edges of `outer` less `hole`, to be filled into an image `width` ×
     /// `height`, cut to it as tiny-skia cuts a path that reaches outside it.
-    fn set(&mut self, outer: &[Point], hole: &[Point], (width, height): (usize, usize)) {
+    pub(super) fn set(&mut self, outer: &[Point], hole: &[Point], (width, height): (usize, usize)) {
         for c in &mut self.chains {
             c.clear();
         }
@@ -177,11 +209,61 @@ impl Chains {
     }
 
     /// The sub-rows the polygon covers, first..end.
-    fn rows(&self) -> (i64, i64) {
+    pub(super) fn rows(&self) -> (i64, i64) {
         let [a, b, ..] = &self.chains;
         let first = a.iter().chain(b).map(|e| e.first).min().unwrap_or(0);
         let end = a.iter().chain(b).map(|e| e.last + 1).max().unwrap_or(0);
         (first, end)
+    }
+
+    /// The spans of the pixel row that holds sub-row `sy` (from `sy` to the row's end or
+    /// `end`, whichever is first) in an image `width` pixels wide, from the crossings of
+    /// the first two chains: what a polygon without a hole covers there.
+    pub(super) fn row_spans(&mut self, mut sy: i64, end: i64, width: usize) -> RowSpans {
+        let max_column = 4 * width as i64;
+        let column = |v: i64| ((v + 0x8000) >> 16).clamp(0, max_column);
+        let row_end = (((sy >> 2) + 1) * 4).min(end);
+        let mut row = RowSpans {
+            a: [0; 4],
+            b: [0; 4],
+            lo: i64::MAX,
+            hi: 0,
+            next: row_end,
+        };
+        while sy < row_end {
+            if let (Some(up), Some(down)) = (self.crossing(0, sy), self.crossing(1, sy)) {
+                let (a, b) = (column(up.min(down)), column(up.max(down)));
+                if a < b {
+                    row.lo = row.lo.min(a >> 2);
+                    row.hi = row.hi.max((b + 3) >> 2);
+                    let k = (sy & 3) as usize;
+                    (row.a[k], row.b[k]) = (a, b);
+                }
+            }
+            sy += 1;
+        }
+        row.hi = row.hi.min(width as i64);
+        row
+    }
+
+    /// When the first two chains were last asked for sub-row `sy` - 1 and both go on
+    /// with the same edge through sub-row `sy` + 3 (and `sy` starts a pixel row), the
+    /// last sub-row before `end` through which both go on with their edges, and each
+    /// chain's crossing of sub-row `sy` - 1 and step per sub-row.
+    pub(super) fn straight(&self, sy: i64, end: i64) -> Option<(i64, [(i64, i64); 2])> {
+        let [c0, c1, ..] = &self.cursors;
+        let stop = c0.last.min(c1.last).min(end - 1);
+        (sy & 3 == 0 && c0.sy == sy - 1 && c1.sy == sy - 1 && sy + 3 <= stop)
+            .then_some((stop, [(c0.x, c0.dx), (c1.x, c1.dx)]))
+    }
+
+    /// Moves the first two chains' cursors on by `n` sub-rows of their current edges,
+    /// as asking for each of them would.
+    pub(super) fn advance(&mut self, n: i64) {
+        for c in &mut self.cursors[..2] {
+            c.sy += n;
+            c.x += n * c.dx;
+        }
     }
 
     /// Returns chain `k`'s fixed-point crossing of sub-row `sy`, or `None` when the
