@@ -250,6 +250,7 @@ impl Chains {
     /// with the same edge through sub-row `sy` + 3 (and `sy` starts a pixel row), the
     /// last sub-row before `end` through which both go on with their edges, and each
     /// chain's crossing of sub-row `sy` - 1 and step per sub-row.
+    #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
     pub(super) fn straight(&self, sy: i64, end: i64) -> Option<(i64, [(i64, i64); 2])> {
         let [c0, c1, ..] = &self.cursors;
         let stop = c0.last.min(c1.last).min(end - 1);
@@ -259,6 +260,7 @@ impl Chains {
 
     /// Moves the first two chains' cursors on by `n` sub-rows of their current edges,
     /// as asking for each of them would.
+    #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
     pub(super) fn advance(&mut self, n: i64) {
         for c in &mut self.cursors[..2] {
             c.sy += n;
