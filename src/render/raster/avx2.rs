@@ -103,8 +103,7 @@ pub(super) unsafe fn blend_plain(
     chains: &mut Chains,
     ink: Ink,
 ) {
-    let (first, end) = chains.rows();
-    let (first, end) = (first.max(0), end.min(4 * height as i64));
+    let (first, end) = chains.rows_within(height);
     let max_column = _mm_set1_epi32(4 * width as i32);
     let mut sy = first;
     while sy < end {

@@ -76,8 +76,7 @@ pub(super) fn blend_plain_sse2(
     chains: &mut Chains,
     ink: Ink,
 ) {
-    let (first, end) = chains.rows();
-    let (first, end) = (first.max(0), end.min(4 * height as i64));
+    let (first, end) = chains.rows_within(height);
     let mut sy = first;
     while sy < end {
         let py = (sy >> 2) as usize;
@@ -208,8 +207,15 @@ impl Chains {
         }; 4];
     }
 
+    /// The sub-rows the polygon covers in an image `height` pixels high, first..end
+    /// (empty when first >= end).
+    pub(super) fn rows_within(&self, height: usize) -> (i64, i64) {
+        let (first, end) = self.rows();
+        (first.max(0), end.min(4 * height as i64))
+    }
+
     /// The sub-rows the polygon covers, first..end.
-    pub(super) fn rows(&self) -> (i64, i64) {
+    fn rows(&self) -> (i64, i64) {
         let [a, b, ..] = &self.chains;
         let first = a.iter().chain(b).map(|e| e.first).min().unwrap_or(0);
         let end = a.iter().chain(b).map(|e| e.last + 1).max().unwrap_or(0);
@@ -315,8 +321,7 @@ thread_local! {
 /// pixels that all four sub-rows cover whole (255), which is blended in one go.
 fn scan_convex(width: usize, height: usize, chains: &mut Chains, mut put: impl FnMut(usize, u8)) {
     let max_column = 4 * width as i64;
-    let (first, end) = chains.rows();
-    let (first, end) = (first.max(0), end.min(4 * height as i64));
+    let (first, end) = chains.rows_within(height);
     if first >= end {
         return;
     }
