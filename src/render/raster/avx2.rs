@@ -8,8 +8,11 @@
 //! row's eight crossings are one register, x + k·dx for sub-rows k = 1..4 past the
 //! last one asked for (exact in 32-bit lanes, below), and are rounded, ordered and
 //! reduced to the row's pixels together. The coverage of eight pixels by four sub-rows
-//! is two registers of sixteen 16-bit lanes (pixel j of sub-row k in lane 8k + j), and
-//! the blend of eight pixels two more (pixel j's four channels). Every operation is on
+//! is two registers of sixteen 16-bit lanes (sub-rows 0 and 1, then 2 and 3, eight
+//! pixels each), and the blend of eight pixels two more (each pixel's four channels);
+//! a row of four pixels or fewer, most rows of a steep arrow, takes one of each. Where
+//! a chain turns a corner, starts or ends inside a row, its crossings are asked for one
+//! by one, as in `convex.rs`, and the row goes on as the others. Every operation is on
 //! integers, so the bytes do not depend on the register width: a unit test draws
 //! thousands of shapes both ways and compares them byte for byte.
 //!

@@ -55,8 +55,9 @@ fn blend_convex(pixmap: &mut Pixmap, chains: &mut Chains, ink: Ink) {
 /// Blends `ink` into the pixels `data` of an image `width` × `height` with the
 /// coverage of a convex polygon without a hole: the bytes of [`scan_convex`]. Each
 /// pixel row's (at most four) spans are covered and blended eight pixels at a time
-/// without a branch on where they end (`eight.rs`), and one by one only where eight
-/// pixels would pass the image's right edge.
+/// without a branch on where they end (`eight.rs`, or `avx2.rs` where the processor
+/// has AVX2 and the image is at most 4096 pixels wide: the same bytes), and one by one
+/// only where eight pixels would pass the image's right edge.
 fn blend_plain(data: &mut [u8], width: usize, height: usize, chains: &mut Chains, ink: Ink) {
     #[cfg(target_arch = "x86_64")]
     if width <= super::avx2::MAX_WIDTH && super::avx2::available() {
