@@ -24,7 +24,7 @@
 
 use std::arch::x86_64::*;
 
-use super::convex::{blend_tail, Chains, RowSpans};
+use super::convex::{blend_tail, weighed, Chains, RowSpans};
 use super::eight::prefetch;
 use crate::render::sprite::Ink;
 
@@ -228,8 +228,7 @@ fn blend_row(
             _mm_storeu_si128(sa.as_mut_ptr().cast(), a);
             _mm_storeu_si128(sb.as_mut_ptr().cast(), b);
         }
-        let spans =
-            std::array::from_fn(|k| (i64::from(sa[k]), i64::from(sb[k]), 64 - u16::from(k == 3)));
+        let spans = weighed(sa.map(i64::from), sb.map(i64::from));
         blend_tail(data, base, x, hi, &spans, ink);
     }
 }

@@ -144,10 +144,16 @@ pub(super) struct RowSpans {
 }
 
 impl RowSpans {
-    /// The spans with their sub-rows' full weights (64, or 63 in the last sub-row).
+    /// The spans with their sub-rows' full weights ([`weighed`]).
     pub fn spans(&self) -> [Span; 4] {
-        std::array::from_fn(|k| (self.a[k], self.b[k], 64 - u16::from(k == 3)))
+        weighed(self.a, self.b)
     }
+}
+
+/// A pixel row's spans a[k]..b[k] with each sub-row's full weight: 64, or 63 in the
+/// last sub-row, so that a pixel all four cover whole sums to 255.
+pub(super) fn weighed(a: [i64; 4], b: [i64; 4]) -> [Span; 4] {
+    std::array::from_fn(|k| (a[k], b[k], 64 - u16::from(k == 3)))
 }
 
 /// A convex polygon, less a convex hole inside it, as chains of tiny-skia's edges: the
