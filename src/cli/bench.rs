@@ -9,7 +9,10 @@
 //! the machine's speed falls on all of them; each one's frame rate is also given as a
 //! ratio to the reference scene's (`circles-1000` unless `--reference` says otherwise)
 //! measured in the same rounds, which compares across runs on a shared machine where
-//! absolute rates do not. Scenes with trails also give what their first and last
+//! absolute rates do not. The ratio is taken round by round, each scene's run over the
+//! reference's run of the same round, and the median of the rounds is shown, with the
+//! lowest and highest round after the row: on a shared machine one round's ratio can
+//! be a tenth off, and the spread says how far to trust the median. Scenes with trails also give what their first and last
 //! hundred frames cost, which should be alike. `--simulate-only` times the simulation alone, stepping the
 //! scene's `Simulation` from t = 0 to its last frame with nothing drawn or written, and
 //! reports nanoseconds per body-step; for a scene of explicit Euler under gravity and
@@ -185,6 +188,23 @@ pub fn run(args: BenchArgs) -> Result<()> {
             )?);
         }
     }
+    let rate = |m: &RenderRun| m.frames as f64 / m.wall_s;
+    // Each round's ratio: a scene's frame rate over the reference's in the same round,
+    // the two measured minutes apart at most, so that the machine's drift between
+    // rounds cancels.
+    let ratios: Vec<Option<RoundRatios>> = runs
+        .iter()
+        .map(|scene_runs| {
+            let reference_runs = &runs[reference?];
+            Some(RoundRatios::of(
+                scene_runs
+                    .iter()
+                    .zip(reference_runs)
+                    .map(|(s, r)| rate(s) / rate(r))
+                    .collect(),
+            ))
+        })
+        .collect();
     let medians: Vec<RenderRun> = runs
         .into_iter()
         .map(|mut runs| {
@@ -192,12 +212,17 @@ pub fn run(args: BenchArgs) -> Result<()> {
             runs.swap_remove(runs.len() / 2)
         })
         .collect();
-    let rate = |m: &RenderRun| m.frames as f64 / m.wall_s;
-    let reference_rate = reference.map(|i| rate(&medians[i]));
     let mut table = String::new();
-    for (i, (scene, m)) in loaded.iter().zip(&medians).enumerate() {
+    for (i, ((scene, m), ratios)) in loaded.iter().zip(&medians).zip(&ratios).enumerate() {
         let ms = |s: f64| s * 1e3;
-        let ratio = reference_rate.map_or("-".to_string(), |r| format!("{:.2}", rate(m) / r));
+        let ratio = ratios
+            .as_ref()
+            .map_or("-".to_string(), |r| format!("{:.2}", r.median));
+        let after = match ratios {
+            _ if Some(i) == reference => "  (reference)".to_string(),
+            Some(r) if args.repeat > 1 => format!("  rounds {:.2} to {:.2}", r.low, r.high),
+            _ => String::new(),
+        };
         table.push_str(&format!(
             "{:<28} {:>9} {:>6} {:>9.1} {:>7} {:>9.3} {:>9.3} {:>9.3} {:>9.3} {:>11.0}{}\n",
             scene.name,
@@ -210,11 +235,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
             ms(m.stages[2]),
             ms(m.stages[3]),
             m.bytes_per_frame,
-            if Some(i) == reference {
-                "  (reference)"
-            } else {
-                ""
-            }
+            after
         ));
         // With trails, whether a late frame costs more than an early one.
         if scene.render.trails {
@@ -233,7 +254,8 @@ pub fn run(args: BenchArgs) -> Result<()> {
     }
     match (reference, &args.reference) {
         (Some(i), _) => table.push_str(&format!(
-            "ratio: frames/s over those of {} in this run\n",
+            "ratio: frames/s over those of {} in the same round, the median of the rounds; \
+             rounds: the lowest and highest single round\n",
             loaded[i].name
         )),
         (None, Some(_)) => table.push_str("ratio: none (--reference none)\n"),
@@ -243,6 +265,28 @@ pub fn run(args: BenchArgs) -> Result<()> {
     }
     super::say(&table)?;
     Ok(())
+}
+
+/// A scene's ratios to the reference scene, one a round: their median, lowest and
+/// highest.
+struct RoundRatios {
+    median: f64,
+    low: f64,
+    high: f64,
+}
+
+impl RoundRatios {
+    fn of(mut ratios: Vec<f64>) -> Self {
+        ratios.sort_by(f64::total_cmp);
+        let n = ratios.len();
+        // The mean of the middle two for an even count.
+        let median = 0.5 * (ratios[(n - 1) / 2] + ratios[n / 2]);
+        RoundRatios {
+            median,
+            low: ratios[0],
+            high: ratios[n - 1],
+        }
+    }
 }
 
 /// The scene whose frame rate the others' are divided by, when `--reference` is not

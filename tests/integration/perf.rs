@@ -555,6 +555,57 @@ fn bench_prints_frames_per_second_and_nanoseconds_per_body_step() {
 }
 
 #[test]
+fn bench_gives_each_scene_the_median_of_its_ratios_round_by_round_and_their_range() {
+    let sandbox = Sandbox::new();
+    let (drag, spring) = (example("drag.toml"), example("spring.toml"));
+    let bench = |repeat: &str| {
+        let out = sandbox.run(&[
+            "bench",
+            &spring,
+            "--reference",
+            &drag,
+            "--repeat",
+            repeat,
+            "--frames",
+            "0..3",
+        ]);
+        assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+        stdout(&out)
+    };
+    let row = |text: &str, name: &str| -> Vec<String> {
+        text.lines()
+            .find(|l| l.starts_with(&format!("{name} ")))
+            .unwrap_or_else(|| panic!("no row for {name} in:\n{text}"))
+            .split_whitespace()
+            .map(str::to_string)
+            .collect()
+    };
+    let text = bench("3");
+    // The scene's row: the median of three rounds, which lies between the lowest and
+    // the highest, printed after the row.
+    let other = row(&text, "spring");
+    let ratio: f64 = other[4].parse().expect("a ratio");
+    let n = other.len();
+    assert_eq!(
+        other[n - 4..n - 2],
+        ["rounds".to_string(), other[n - 3].clone()]
+    );
+    assert_eq!(other[n - 2], "to", "{text}");
+    let low: f64 = other[n - 3].parse().expect("the lowest round");
+    let high: f64 = other[n - 1].parse().expect("the highest round");
+    assert!(
+        0.0 < low && low <= ratio && ratio <= high && high.is_finite(),
+        "{text}"
+    );
+    assert!(text.contains("the median of the rounds"), "{text}");
+    // One round has no range to give.
+    let text = bench("1");
+    assert!(!text.contains("rounds "), "{text}");
+    let other = row(&text, "spring");
+    assert!(other[4].parse::<f64>().is_ok_and(|r| r > 0.0), "{text}");
+}
+
+#[test]
 fn bench_with_out_keeps_only_the_last_runs_frames_of_each_scene() {
     let sandbox = Sandbox::new();
     let scene_path = example("drag.toml");
