@@ -204,9 +204,23 @@ fn blend_row(
     let ahead = 4 * (base + 2 * width);
     prefetch(data, ahead + 4 * lo as usize);
     prefetch(data, ahead + 4 * hi as usize);
+    // In an opaque ink, the pixels every sub-row covers whole (coverage 64·3 + 63 =
+    // 255) take the ink's colour, as `Ink::blend` gives it, without a blend: pixels
+    // ⌈a/4⌉..⌊b/4⌋ of every sub-row's span (none when a sub-row has no span, whose
+    // lanes are 0..0).
+    let (core_lo, core_hi) = if ink.is_opaque() {
+        core(a, b)
+    } else {
+        (hi, hi)
+    };
     let mut x = lo;
     while x + 8 <= width as i64 && x < hi {
         let k = 4 * (base + x as usize);
+        if x >= core_lo && core_hi - x >= 8 {
+            fill_colour(&mut data[k..4 * (base + core_hi as usize)], ink);
+            x = core_hi;
+            continue;
+        }
         if hi - x <= 4 {
             let px: &mut [u8; 16] = (&mut data[k..k + 16])
                 .try_into()
@@ -230,6 +244,40 @@ fn blend_row(
         }
         let spans = weighed(sa.map(i64::from), sb.map(i64::from));
         blend_tail(data, base, x, hi, &spans, ink);
+    }
+}
+
+/// The pixels ⌈a/4⌉..⌊b/4⌋ that all four sub-rows' spans a..b (quarter-pixel columns,
+/// one per lane) cover whole; an empty range when they cover none.
+#[inline]
+#[target_feature(enable = "avx2")]
+fn core(a: __m128i, b: __m128i) -> (i64, i64) {
+    let lo = _mm_srai_epi32::<2>(_mm_add_epi32(a, _mm_set1_epi32(3)));
+    let hi = _mm_srai_epi32::<2>(b);
+    let lo = _mm_max_epi32(lo, _mm_shuffle_epi32::<0b01_00_11_10>(lo));
+    let lo = _mm_max_epi32(lo, _mm_shuffle_epi32::<0b10_11_00_01>(lo));
+    let hi = _mm_min_epi32(hi, _mm_shuffle_epi32::<0b01_00_11_10>(hi));
+    let hi = _mm_min_epi32(hi, _mm_shuffle_epi32::<0b10_11_00_01>(hi));
+    (
+        i64::from(_mm_cvtsi128_si32(lo)),
+        i64::from(_mm_cvtsi128_si32(hi)),
+    )
+}
+
+/// Writes an opaque ink's colour into every pixel of `px`, eight at a time.
+#[inline]
+#[target_feature(enable = "avx2")]
+fn fill_colour(px: &mut [u8], ink: &Ink) {
+    let [r, g, b, a] = ink.rgba().map(|v| v as u8);
+    let colour = u32::from_le_bytes([r, g, b, a]);
+    let eight = _mm256_set1_epi32(colour as i32);
+    let mut chunks = px.chunks_exact_mut(32);
+    for chunk in &mut chunks {
+        // SAFETY: each chunk is 32 bytes, stored unaligned.
+        unsafe { _mm256_storeu_si256(chunk.as_mut_ptr().cast(), eight) };
+    }
+    for p in chunks.into_remainder().chunks_exact_mut(4) {
+        p.copy_from_slice(&colour.to_le_bytes());
     }
 }
 
