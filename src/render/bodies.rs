@@ -10,7 +10,7 @@ use tiny_skia::{
 pub use super::arrows::{draw_arrow, draw_arrow_path};
 use super::camera::Camera;
 use super::raster;
-use super::sprite::Ink;
+use super::sprite::{Ink, MAX_SPRITE_REACH};
 use crate::scene::{Body, Rgba, Shape};
 use crate::sim::rigid::rotate;
 
@@ -60,6 +60,11 @@ pub struct BodyLook {
 struct TurnedOutline {
     fill: Vec<raster::Point>,
     ring: raster::Ring,
+    /// A disc's: the ring's sides are the polygons of the curves a stroke's half-width
+    /// outside and inside its edge, so that in opaque colours the ring's outer side
+    /// filled in the edge's colour and its inner side over it in the fill's give the
+    /// look ([`raster::fill_layers`]).
+    layers: bool,
 }
 
 /// A polygon outline that is not convex as [`raster::fill_outline`] draws it: its
@@ -174,21 +179,43 @@ impl BodyLook {
                 reach = reach.max(6.0);
             }
         }
-        // An outline that is convex may be drawn by the scan converter.
-        let turned = outline
-            .as_ref()
-            .filter(|_| points.is_none())
-            .and_then(|path| {
-                let fill: Vec<raster::Point> = path.points().iter().map(|p| (p.x, p.y)).collect();
-                let is_polygon = path.segments().all(|s| {
-                    matches!(
-                        s,
-                        PathSegment::MoveTo(_) | PathSegment::LineTo(_) | PathSegment::Close
-                    )
-                });
-                let ring = raster::Ring::of_convex(&fill, OUTLINE_HALF_WIDTH)?;
-                is_polygon.then_some(TurnedOutline { fill, ring })
-            });
+        // An outline that is convex may be drawn by the scan converter. So may a disc
+        // too large to stamp that never turns, as a polygon on its circle's curve.
+        let big_disc = circle.filter(|&r| !body.turns && r > MAX_SPRITE_REACH);
+        let turned = match big_disc {
+            // The stroke of a circle is the ring between the curves a half-width w
+            // outside and inside it, the inner side wound against the outer.
+            Some(r) => raster::disc(r, OUTLINE_HALF_WIDTH as f32).map(|[fill, outer, mut inner]| {
+                inner.reverse();
+                TurnedOutline {
+                    fill,
+                    ring: raster::Ring {
+                        outer,
+                        inner: Some(inner),
+                    },
+                    layers: true,
+                }
+            }),
+            None => outline
+                .as_ref()
+                .filter(|_| points.is_none())
+                .and_then(|path| {
+                    let fill: Vec<raster::Point> =
+                        path.points().iter().map(|p| (p.x, p.y)).collect();
+                    let is_polygon = path.segments().all(|s| {
+                        matches!(
+                            s,
+                            PathSegment::MoveTo(_) | PathSegment::LineTo(_) | PathSegment::Close
+                        )
+                    });
+                    let ring = raster::Ring::of_convex(&fill, OUTLINE_HALF_WIDTH)?;
+                    is_polygon.then_some(TurnedOutline {
+                        fill,
+                        ring,
+                        layers: false,
+                    })
+                }),
+        };
         // An outline of straight edges that is not convex goes through the general
         // scan: the polygon, and its stroke as the union of its edges' capsules.
         let general = outline
@@ -441,7 +468,20 @@ impl BodyLook {
             );
             return;
         }
+        let (fill, edge) = (Ink::of(self.fill), Ink::of(self.edge));
         match (&self.turned, self.turns) {
+            // A disc too large to stamp, in opaque colours: two fills of the quickest
+            // kind, where the ring would be scanned with its hole.
+            (Some(turned), false) if turned.layers && fill.is_opaque() && edge.is_opaque() => {
+                let inner = turned.ring.inner.as_deref().unwrap_or(&[]);
+                raster::fill_layers(
+                    pixmap,
+                    &turned.ring.outer,
+                    inner,
+                    Transform::from_translate(x, y),
+                    [edge, fill],
+                );
+            }
             (Some(turned), false) => raster::fill_turned(
                 pixmap,
                 &turned.fill,

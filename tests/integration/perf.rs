@@ -393,6 +393,65 @@ fn discs_of_a_thousand_radii_are_stamped_and_look_like_their_paths() {
     stamped_against_paths(&s, 50_000, 3.0 * std::f64::consts::SQRT_2);
 }
 
+#[test]
+fn discs_too_large_to_stamp_are_scanned_as_polygons_and_look_like_their_paths() {
+    // Balls of many sizes, most of them too large for a sprite (a radius over 24
+    // pixels), in the default colours, a tenth of them translucent (their stroke goes
+    // through the ring's scan instead of the two fills). Each disc is a polygon on the
+    // curve of tiny-skia's circle (within 1/32 pixel) and its stroke the ring between
+    // that curve moved 0.75 pixel out and in, so they differ from the paths only on
+    // the rim, in two ways. Where a curve runs nearly level, a shift of a hundredth of
+    // a pixel between tiny-skia's flattening of its curves and ours moves a sub-row's
+    // crossing by a pixel: a quarter of a pixel's coverage, 64/255 of a channel at
+    // most. And in opaque colours the ring's outer side is filled in the edge's
+    // colour and its inner side in the fill's over it, which differs from the fill
+    // then the stroke, where the fill's edge and a side of the ring cross one pixel,
+    // by at most a quarter of the difference between the fill and what lies under it
+    // (`raster::fill_layers`): 64/255 more at most. The rim, every pixel within a
+    // pixel of the three curves, is at most (2·0.75 + 2)·2πr / πr² = 7/r of a disc's
+    // pixels: a quarter for the smallest such disc, r = 24 + 0.75 (the stroke).
+    let mut text = String::from(
+        "[render]\nwidth = 1280\nheight = 720\nview = { min = [0.0, 0.0], max = [16.0, 9.0] }\n",
+    );
+    let mut next = crate::util::uniform(2024);
+    for k in 0..120 {
+        let (px, py, r) = (0.5 + 15.0 * next(), 0.5 + 8.0 * next(), 0.2 + 0.7 * next());
+        let color = if k % 10 == 0 {
+            "color = \"#3366cc80\"\n"
+        } else {
+            ""
+        };
+        text += &format!(
+            "[[body]]\nmass = 1.0\nposition = [{px}, {py}]\nshape = {{ circle = {{ radius = {r} }} }}\n{color}"
+        );
+    }
+    let s = scene(&text);
+    let looks = physframes::render::looks::Looks::new(
+        &s.bodies,
+        &Camera::fit(s.render.view, s.render.width, s.render.height),
+        BodyDrawing::Sprites,
+    );
+    let scanned = looks
+        .looks
+        .iter()
+        .filter(|l| l.sprite.is_none() && l.body.draws_fast())
+        .count();
+    assert!(scanned > 60, "{scanned} discs drawn as polygons");
+    let (fast, paths, _) = crate::util::first_frame_both_ways(&s);
+    let (largest, count) = diff(&fast, &paths);
+    let covered = paths
+        .pixels()
+        .iter()
+        .filter(|p| (p.red(), p.green(), p.blue()) != (255, 255, 255))
+        .count();
+    eprintln!(
+        "large discs against exact paths: largest {largest}/255, {count} of {covered} covered pixels differ"
+    );
+    assert!(largest <= 128, "largest difference {largest}/255");
+    assert!(4 * count <= covered, "{count} of {covered} pixels differ");
+    assert!(covered > 300_000, "the discs cover {covered} pixels");
+}
+
 /// Draws the scene's first frame with sprites and with paths, and checks that they
 /// differ as moving each edge by less than a quarter pixel may: no channel by more
 /// than 64/255, and by less than `mean_bound`/255 on average over the `min_touched` or

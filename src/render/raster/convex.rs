@@ -480,6 +480,41 @@ pub fn fill_turned(
     turned(pixmap, None, fill, ring, at, [fill_ink, edge_ink]);
 }
 
+/// Fills the convex polygon `under` in the first ink, then the convex polygon `over`
+/// (its points in either order) in the second over it, both placed by `at` as
+/// [`fill_turned`] places its points.
+///
+/// For a disc in opaque colours, with `under` its edge's curve moved a stroke's
+/// half-width out and `over` moved as far in ([`super::disc`]), this stands for the
+/// fill and then the stroke, ring = outer - inner. With a pixel's coverages c_f by
+/// the fill, c_o by the outer side and c_i by the inner one (c_i ≤ c_f ≤ c_o, and the
+/// ring's c_o - c_i), the fill (F) then the stroke (E) over what lies under (B) give
+/// E·(c_o - c_i) + (1 - c_o + c_i)·(F·c_f + B·(1 - c_f)), and the two fills
+/// F·c_i + (1 - c_i)·(E·c_o + B·(1 - c_o)). The sides lie 1.5 pixels apart, more than
+/// a pixel's diagonal, so a pixel has c_o = 1 or c_i = 0: the two differ by
+/// c_i·(1 - c_f)·(B - F) or by (1 - c_o)·c_f·(F - B), at most c_f·(1 - c_f)·|F - B|,
+/// a quarter of |F - B|, and only where the fill's edge crosses the pixel too.
+pub fn fill_layers(
+    pixmap: &mut Pixmap,
+    under: &[Point],
+    over: &[Point],
+    at: tiny_skia::Transform,
+    inks: [Ink; 2],
+) {
+    TURNED.with(|buffers| {
+        let (scratch, [a, b, _]) = &mut *buffers.borrow_mut();
+        super::place(at, under, scratch, a);
+        super::place(at, over, scratch, b);
+        CONVEX.with(|c| {
+            let c = &mut *c.borrow_mut();
+            for (points, ink) in [(&*a, inks[0]), (&*b, inks[1])] {
+                c.chains.set(points, &[], size(pixmap));
+                blend_convex(pixmap, &mut c.chains, ink);
+            }
+        });
+    });
+}
+
 /// Draws a turned convex outline like [`fill_turned`], its fill into `fill_pixmap` and
 /// its stroke into `edge_pixmap`, both in `ink`: with opaque white over transparent
 /// pixmaps, the alpha of each is the coverage, as sprites keep it.

@@ -48,10 +48,10 @@ use tiny_skia::Pixmap;
 use super::sprite::Ink;
 use clipper::ImageClip;
 
-pub use convex::{cover_convex, fill_convex, fill_turned, fill_turned_apart};
+pub use convex::{cover_convex, fill_convex, fill_layers, fill_turned, fill_turned_apart};
 pub(crate) use eight::{prefetch, prefetch_around, AHEAD, PREFETCH_REACH};
 pub use lines::stroke_polyline;
-pub use shapes::{bar, capsule, Ring};
+pub use shapes::{bar, capsule, disc, Ring, DISC_POLYGON_TOLERANCE};
 
 /// A point in pixels.
 pub type Point = (f32, f32);

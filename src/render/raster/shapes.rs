@@ -1,6 +1,8 @@
 //! The polygons of strokes as tiny-skia's stroker builds them: a line's rectangle, a
 //! line with round caps, and the ring of a convex outline's stroke.
 
+use tiny_skia::{PathBuilder, PathSegment};
+
 use super::{signed_area, Point};
 
 /// Returns the rectangle that tiny-skia's stroker makes of a line from `a` to `b` with
@@ -186,4 +188,114 @@ fn clip(points: &[(f64, f64)], f: impl Fn((f64, f64)) -> f64) -> Vec<(f64, f64)>
         }
     }
     out
+}
+
+/// The farthest, in pixels, that the polygon of [`disc`] lies from the curve
+/// of tiny-skia's circle.
+pub const DISC_POLYGON_TOLERANCE: f32 = 1.0 / 32.0;
+
+/// Returns the polygon that stands for the circle of radius `r` pixels centred on the
+/// origin, for the scan converter, and the polygons `w` outside and inside it, the
+/// sides of its stroke's ring: points on the curve tiny-skia fills for the circle
+/// (`PathBuilder::from_circle`: four conics turned into quadratic Béziers within 1/4
+/// pixel of the circle), each quadratic cut into as many chords as keep every chord
+/// within [`DISC_POLYGON_TOLERANCE`] of it, and those points moved w along the radius
+/// out and in. A quadratic's chords of m equal steps in t lie within |p0 - 2·p1 +
+/// p2|/(4·m²) of it, so m = ⌈√(|p0 - 2·p1 + p2| / (4·tolerance))⌉. `None` when the
+/// circle has no path (a radius that is not positive and finite) or when w ≥ r.
+pub fn disc(r: f32, w: f32) -> Option<[Vec<Point>; 3]> {
+    // A NaN radius or width fails this too.
+    if w.partial_cmp(&r) != Some(std::cmp::Ordering::Less) {
+        return None;
+    }
+    let path = PathBuilder::from_circle(0.0, 0.0, r)?;
+    let mut fill: Vec<Point> = Vec::new();
+    let mut last = (0.0f32, 0.0f32);
+    for segment in path.segments() {
+        match segment {
+            PathSegment::MoveTo(p) | PathSegment::LineTo(p) => {
+                last = (p.x, p.y);
+                fill.push(last);
+            }
+            PathSegment::QuadTo(c, p) => {
+                let (dx, dy) = (last.0 - 2.0 * c.x + p.x, last.1 - 2.0 * c.y + p.y);
+                let bend = (dx * dx + dy * dy).sqrt();
+                let m = (bend / (4.0 * DISC_POLYGON_TOLERANCE))
+                    .sqrt()
+                    .ceil()
+                    .max(1.0) as usize;
+                for k in 1..=m {
+                    // B(t) = (1 - t)²·p0 + 2t(1 - t)·p1 + t²·p2.
+                    let t = k as f32 / m as f32;
+                    let (a, b, e) = ((1.0 - t) * (1.0 - t), 2.0 * t * (1.0 - t), t * t);
+                    fill.push((
+                        a * last.0 + b * c.x + e * p.x,
+                        a * last.1 + b * c.y + e * p.y,
+                    ));
+                }
+                last = (p.x, p.y);
+            }
+            // A circle's path holds neither.
+            PathSegment::CubicTo(..) | PathSegment::Close => {}
+        }
+    }
+    // The contour ends where it began.
+    if fill.len() > 1 && fill.first() == fill.last() {
+        fill.pop();
+    }
+    let moved = |d: f32| -> Vec<Point> {
+        fill.iter()
+            .map(|&(x, y)| {
+                let k = 1.0 + d / (x * x + y * y).sqrt();
+                (k * x, k * y)
+            })
+            .collect()
+    };
+    let (outer, inner) = (moved(w), moved(-w));
+    Some([fill, outer, inner])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The disc's polygon lies on tiny-skia's curve for the circle, which is within a
+    /// quarter pixel of the circle, its chords within the tolerance; the ring's sides
+    /// lie the half-width out and in; all three are convex (the scan converter's
+    /// chains need it); and the corners grow as √r, not as r.
+    #[test]
+    fn a_discs_polygons_follow_its_circle() {
+        let mut counts = Vec::new();
+        for r in [24.5f32, 60.0, 400.0, 2000.0] {
+            let [fill, outer, inner] = disc(r, 0.75).expect("a disc");
+            let distance = |p: &Point| f64::from(p.0).hypot(f64::from(p.1));
+            let quarter = 0.25 + f64::from(DISC_POLYGON_TOLERANCE);
+            for (points, radius) in [(&fill, r), (&outer, r + 0.75), (&inner, r - 0.75)] {
+                for p in points.iter() {
+                    let d = distance(p);
+                    // A quarter pixel, and the f32 rounding of coordinates near r.
+                    assert!(
+                        (d - f64::from(radius)).abs() <= 0.25 + 1e-5 * f64::from(r),
+                        "r = {r}: a corner at {d} for {radius}"
+                    );
+                }
+                // A chord's middle is no farther inside than the tolerance allows.
+                for (k, a) in points.iter().enumerate() {
+                    let b = points[(k + 1) % points.len()];
+                    let middle = ((a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0);
+                    assert!(distance(&middle) >= f64::from(radius) - quarter - 1e-3);
+                }
+                assert!(
+                    super::super::Ring::of_convex(points, 0.5).is_some(),
+                    "r = {r}: convex"
+                );
+            }
+            assert_eq!((fill.len(), inner.len()), (outer.len(), outer.len()));
+            counts.push(fill.len() as f64);
+        }
+        // 24.5 → 2000 is 82 times the radius: about 9 times the corners.
+        let growth = counts[3] / counts[0];
+        assert!((5.0..15.0).contains(&growth), "{counts:?}");
+        assert!(disc(0.5, 0.75).is_none() && disc(f32::NAN, 0.75).is_none());
+    }
 }
