@@ -49,6 +49,11 @@ pub struct BodyLook {
     /// For a body whose outline is a polygon that is not convex, the polygon and its
     /// stroke (the capsules of its edges) for the general scan, prepared as `turned`.
     general: Option<GeneralOutline>,
+    /// For a circle too large to stamp, its polygon and ring for the scan converter,
+    /// turning or not: the ring's sides are its curve moved a stroke's half-width out
+    /// and in, so that in opaque colours the outer side filled in the edge's colour and
+    /// the inner side over it in the fill's give the look ([`raster::fill_layers`]).
+    disc: Option<TurnedOutline>,
     pub show_velocity: bool,
     pub show_force: bool,
 }
@@ -60,11 +65,6 @@ pub struct BodyLook {
 struct TurnedOutline {
     fill: Vec<raster::Point>,
     ring: raster::Ring,
-    /// A disc's: the ring's sides are the polygons of the curves a stroke's half-width
-    /// outside and inside its edge, so that in opaque colours the ring's outer side
-    /// filled in the edge's colour and its inner side over it in the fill's give the
-    /// look ([`raster::fill_layers`]).
-    layers: bool,
 }
 
 /// A polygon outline that is not convex as [`raster::fill_outline`] draws it: its
@@ -179,13 +179,13 @@ impl BodyLook {
                 reach = reach.max(6.0);
             }
         }
-        // An outline that is convex may be drawn by the scan converter. So may a disc
-        // too large to stamp that never turns, as a polygon on its circle's curve.
-        let big_disc = circle.filter(|&r| !body.turns && r > MAX_SPRITE_REACH);
-        let turned = match big_disc {
-            // The stroke of a circle is the ring between the curves a half-width w
-            // outside and inside it, the inner side wound against the outer.
-            Some(r) => raster::disc(r, OUTLINE_HALF_WIDTH as f32).map(|[fill, outer, mut inner]| {
+        // A disc too large to stamp may be drawn by the scan converter, turning or not,
+        // as a polygon on its circle's curve; its stroke is the ring between the curves
+        // a half-width w outside and inside it, the inner side wound against the outer.
+        let disc = circle
+            .filter(|&r| r > MAX_SPRITE_REACH)
+            .and_then(|r| raster::disc(r, OUTLINE_HALF_WIDTH as f32))
+            .map(|[fill, outer, mut inner]| {
                 inner.reverse();
                 TurnedOutline {
                     fill,
@@ -193,29 +193,23 @@ impl BodyLook {
                         outer,
                         inner: Some(inner),
                     },
-                    layers: true,
                 }
-            }),
-            None => outline
-                .as_ref()
-                .filter(|_| points.is_none())
-                .and_then(|path| {
-                    let fill: Vec<raster::Point> =
-                        path.points().iter().map(|p| (p.x, p.y)).collect();
-                    let is_polygon = path.segments().all(|s| {
-                        matches!(
-                            s,
-                            PathSegment::MoveTo(_) | PathSegment::LineTo(_) | PathSegment::Close
-                        )
-                    });
-                    let ring = raster::Ring::of_convex(&fill, OUTLINE_HALF_WIDTH)?;
-                    is_polygon.then_some(TurnedOutline {
-                        fill,
-                        ring,
-                        layers: false,
-                    })
-                }),
-        };
+            });
+        // An outline that is convex may be drawn by the scan converter.
+        let turned = outline
+            .as_ref()
+            .filter(|_| points.is_none())
+            .and_then(|path| {
+                let fill: Vec<raster::Point> = path.points().iter().map(|p| (p.x, p.y)).collect();
+                let is_polygon = path.segments().all(|s| {
+                    matches!(
+                        s,
+                        PathSegment::MoveTo(_) | PathSegment::LineTo(_) | PathSegment::Close
+                    )
+                });
+                let ring = raster::Ring::of_convex(&fill, OUTLINE_HALF_WIDTH)?;
+                is_polygon.then_some(TurnedOutline { fill, ring })
+            });
         // An outline of straight edges that is not convex goes through the general
         // scan: the polygon, and its stroke as the union of its edges' capsules.
         let general = outline
@@ -253,6 +247,7 @@ impl BodyLook {
             turns: body.turns,
             turned,
             general,
+            disc,
             marker,
             points,
             masses: point_masses,
@@ -441,7 +436,13 @@ impl BodyLook {
     /// Returns true when [`BodyLook::draw_fast`] draws this look through the scan
     /// converter: an outline of straight edges (convex or not) that never turns.
     pub fn draws_fast(&self) -> bool {
-        !self.turns && (self.turned.is_some() || self.general.is_some())
+        !self.turns && (self.turned.is_some() || self.general.is_some() || self.disc.is_some())
+    }
+
+    /// Returns true when [`BodyLook::draw_turned_fast`] draws this look through the
+    /// scan converter: a turning disc too large to stamp, with its orientation line.
+    pub fn rolls_fast(&self) -> bool {
+        self.turns && self.disc.is_some()
     }
 
     /// Returns true when [`BodyLook::draw_turned_fast`] draws this look through the
@@ -468,20 +469,11 @@ impl BodyLook {
             );
             return;
         }
-        let (fill, edge) = (Ink::of(self.fill), Ink::of(self.edge));
+        if let (Some(disc), false) = (&self.disc, self.turns) {
+            self.draw_disc(pixmap, disc, Transform::from_translate(x, y));
+            return;
+        }
         match (&self.turned, self.turns) {
-            // A disc too large to stamp, in opaque colours: two fills of the quickest
-            // kind, where the ring would be scanned with its hole.
-            (Some(turned), false) if turned.layers && fill.is_opaque() && edge.is_opaque() => {
-                let inner = turned.ring.inner.as_deref().unwrap_or(&[]);
-                raster::fill_layers(
-                    pixmap,
-                    &turned.ring.outer,
-                    inner,
-                    Transform::from_translate(x, y),
-                    [edge, fill],
-                );
-            }
             (Some(turned), false) => raster::fill_turned(
                 pixmap,
                 &turned.fill,
@@ -494,7 +486,28 @@ impl BodyLook {
         }
     }
 
+    /// Draws a disc too large to stamp through the scan converter, placed by `at`: in
+    /// opaque colours its ring's outer side in the edge's colour and its inner side
+    /// over it in the fill's, two fills without a hole; otherwise its fill and then
+    /// its ring.
+    fn draw_disc(&self, pixmap: &mut Pixmap, disc: &TurnedOutline, at: Transform) {
+        let (fill, edge) = (Ink::of(self.fill), Ink::of(self.edge));
+        match &disc.ring.inner {
+            Some(inner) if fill.is_opaque() && edge.is_opaque() => {
+                raster::fill_layers(pixmap, &disc.ring.outer, inner, at, [edge, fill]);
+            }
+            _ => raster::fill_turned(pixmap, &disc.fill, &disc.ring, at, fill, edge),
+        }
+    }
+
     fn draw_turned_with(&self, pixmap: &mut Pixmap, x: f32, y: f32, theta: f64, fast: bool) {
+        if let (true, Some(disc)) = (fast, &self.disc) {
+            // A disc looks the same at every angle: it is drawn unturned, then its
+            // orientation line.
+            self.draw_disc(pixmap, disc, Transform::from_translate(x, y));
+            self.draw_orientation_fast(pixmap, x, y, theta);
+            return;
+        }
         if self.marker.is_some() {
             self.draw(pixmap, x, y);
             self.draw_orientation(pixmap, x, y, theta);

@@ -187,7 +187,7 @@ impl Renderer {
                 .iter()
                 .filter(|&&l| {
                     let body = &looks[l as usize].body;
-                    body.turns_fast() || body.turns_general()
+                    body.turns_fast() || body.turns_general() || body.rolls_fast()
                 })
                 .count()
                 >= SPRITE_MIN_BODIES;
