@@ -470,33 +470,45 @@ impl BodyLook {
             return;
         }
         if let (Some(disc), false) = (&self.disc, self.turns) {
-            self.draw_disc(pixmap, disc, Transform::from_translate(x, y));
+            self.draw_scanned(pixmap, disc, Transform::from_translate(x, y), true);
             return;
         }
         match (&self.turned, self.turns) {
-            (Some(turned), false) => raster::fill_turned(
+            (Some(turned), false) => self.draw_scanned(
                 pixmap,
-                &turned.fill,
-                &turned.ring,
+                turned,
                 Transform::from_translate(x, y),
-                Ink::of(self.fill),
-                Ink::of(self.edge),
+                self.too_large_to_stamp(),
             ),
             _ => self.draw(pixmap, x, y),
         }
     }
 
-    /// Draws a disc too large to stamp through the scan converter, placed by `at`: in
-    /// opaque colours its ring's outer side in the edge's colour and its inner side
-    /// over it in the fill's, two fills without a hole; otherwise its fill and then
-    /// its ring.
-    fn draw_disc(&self, pixmap: &mut Pixmap, disc: &TurnedOutline, at: Transform) {
+    /// Returns true when the look is too large to be stamped from a sprite.
+    fn too_large_to_stamp(&self) -> bool {
+        self.reach > MAX_SPRITE_REACH
+    }
+
+    /// Draws a convex outline (or a disc's polygon) through the scan converter, placed
+    /// by `at`: its fill and then its ring or, with `layers` and in opaque colours,
+    /// its ring's outer side in the edge's colour and its inner side over it in the
+    /// fill's, two fills without a hole, which differ from the first where the fill's
+    /// edge crosses a pixel by at most a quarter of the fill's difference from what
+    /// lies under it ([`raster::fill_layers`]). Layers are for looks too large to
+    /// stamp, whose rings are long: a small look's stroke keeps its exact bounds.
+    fn draw_scanned(
+        &self,
+        pixmap: &mut Pixmap,
+        outline: &TurnedOutline,
+        at: Transform,
+        layers: bool,
+    ) {
         let (fill, edge) = (Ink::of(self.fill), Ink::of(self.edge));
-        match &disc.ring.inner {
-            Some(inner) if fill.is_opaque() && edge.is_opaque() => {
-                raster::fill_layers(pixmap, &disc.ring.outer, inner, at, [edge, fill]);
+        match &outline.ring.inner {
+            Some(inner) if layers && fill.is_opaque() && edge.is_opaque() => {
+                raster::fill_layers(pixmap, &outline.ring.outer, inner, at, [edge, fill]);
             }
-            _ => raster::fill_turned(pixmap, &disc.fill, &disc.ring, at, fill, edge),
+            _ => raster::fill_turned(pixmap, &outline.fill, &outline.ring, at, fill, edge),
         }
     }
 
@@ -504,7 +516,7 @@ impl BodyLook {
         if let (true, Some(disc)) = (fast, &self.disc) {
             // A disc looks the same at every angle: it is drawn unturned, then its
             // orientation line.
-            self.draw_disc(pixmap, disc, Transform::from_translate(x, y));
+            self.draw_scanned(pixmap, disc, Transform::from_translate(x, y), true);
             self.draw_orientation_fast(pixmap, x, y, theta);
             return;
         }
@@ -528,14 +540,7 @@ impl BodyLook {
             return;
         }
         if let (true, Some(turned)) = (fast, &self.turned) {
-            raster::fill_turned(
-                pixmap,
-                &turned.fill,
-                &turned.ring,
-                at,
-                Ink::of(self.fill),
-                Ink::of(self.edge),
-            );
+            self.draw_scanned(pixmap, turned, at, self.too_large_to_stamp());
             return;
         }
         if let Some(outline) = &self.outline {

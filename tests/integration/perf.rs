@@ -481,6 +481,78 @@ fn discs_too_large_to_stamp_are_scanned_as_polygons_and_look_like_their_paths() 
     assert!(covered > 300_000, "the discs cover {covered} pixels");
 }
 
+#[test]
+fn boxes_and_polygons_too_large_to_stamp_are_filled_in_layers_and_look_like_their_paths() {
+    // Crates and wedges too large for a sprite (over 24 pixels from the centre to a
+    // corner), half turning, in the default colours and a tenth translucent. They are
+    // scanned as smaller ones are, whose stroke differs from tiny-skia's only where
+    // its round joins are cut into chords, by 29/255 at most (`every_scene.rs`); in
+    // opaque colours the ring's outer side is filled in the edge's colour and its
+    // inner side over it in the fill's, which adds at most a quarter of the fill's
+    // difference from what lies under it, where the fill's edge crosses a pixel
+    // (`raster::fill_layers`): 64/255.
+    let mut text = String::from(
+        "[render]\nwidth = 1280\nheight = 720\nview = { min = [0.0, 0.0], max = [16.0, 9.0] }\n",
+    );
+    let mut next = crate::util::uniform(77);
+    for k in 0..120 {
+        let (px, py) = (0.5 + 15.0 * next(), 0.5 + 8.0 * next());
+        let (w, h) = (0.5 + 0.8 * next(), 0.5 + 0.8 * next());
+        let shape = if k % 3 == 0 {
+            format!("{{ polygon = {{ points = [[0.0, 0.0], [{w}, 0.1], [0.2, {h}]] }} }}")
+        } else {
+            format!("{{ box = {{ width = {w}, height = {h} }} }}")
+        };
+        let color = if k % 10 == 0 {
+            "color = \"#3366cc80\"\n"
+        } else {
+            ""
+        };
+        let angle = 6.0 * next();
+        let turning = if k % 2 == 1 {
+            "angular_velocity = 1.0\n"
+        } else {
+            ""
+        };
+        text += &format!(
+            "[[body]]\nmass = 1.0\nposition = [{px}, {py}]\nshape = {shape}\nangle = {angle}\n{color}{turning}"
+        );
+    }
+    let s = scene(&text);
+    let (fast, paths, _) = crate::util::first_frame_both_ways(&s);
+    let (largest, count) = diff(&fast, &paths);
+    let covered = paths
+        .pixels()
+        .iter()
+        .filter(|p| (p.red(), p.green(), p.blue()) != (255, 255, 255))
+        .count();
+    eprintln!(
+        "large boxes and wedges against exact paths: largest {largest}/255, {count} of {covered} covered pixels differ"
+    );
+    assert!(largest <= 29 + 64, "largest difference {largest}/255");
+    // Only pixels within a pixel of the three outlines (the fill's edge and the ring's
+    // two sides, 3.5 pixels in all) can differ.
+    let rims: f64 = s
+        .bodies
+        .iter()
+        .map(|b| {
+            let perimeter = match &b.shape {
+                Shape::Box { width, height } => 2.0 * (width + height),
+                Shape::Polygon { points } => (0..points.len())
+                    .map(|i| (points[(i + 1) % points.len()] - points[i]).length())
+                    .sum(),
+                _ => 0.0,
+            };
+            3.5 * 80.0 * perimeter
+        })
+        .sum();
+    assert!(
+        (count as f64) < rims,
+        "{count} pixels differ, {rims} on the rims"
+    );
+    assert!(covered > 300_000, "the shapes cover {covered} pixels");
+}
+
 /// Draws the scene's first frame with sprites and with paths, and checks that they
 /// differ as moving each edge by less than a quarter pixel may: no channel by more
 /// than 64/255, and by less than `mean_bound`/255 on average over the `min_touched` or
