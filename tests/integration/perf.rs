@@ -396,10 +396,8 @@ fn discs_of_a_thousand_radii_are_stamped_and_look_like_their_paths() {
 #[test]
 fn discs_too_large_to_stamp_are_scanned_as_polygons_and_look_like_their_paths() {
     // Balls of many sizes, most of them too large for a sprite (a radius over 24
-    // pixels), in the default colours, a tenth of them translucent (their stroke goes
-    // through the ring's scan instead of the two fills), half of them turning, with
-    // the orientation line the stamped discs have (32/255 from its path at most,
-    // `every_scene.rs`). Each disc is a polygon on the
+    // pixels), with the orientation line the stamped discs have on the turning ones
+    // (32/255 from its path at most, `every_scene.rs`). Each disc is a polygon on the
     // curve of tiny-skia's circle (within 1/32 pixel) and its stroke the ring between
     // that curve moved 0.75 pixel out and in, so they differ from the paths only on
     // the rim, in two ways. Where a curve runs nearly level, a shift of a hundredth of
@@ -413,28 +411,9 @@ fn discs_too_large_to_stamp_are_scanned_as_polygons_and_look_like_their_paths() 
     // cap meets the rim, its 32 more. Only pixels within a pixel of the three curves
     // (the rim, 3.5 pixels wide: 7πr pixels for a disc of radius r) or of an
     // orientation line (3.5·r) can differ.
-    let mut text = String::from(
-        "[render]\nwidth = 1280\nheight = 720\nview = { min = [0.0, 0.0], max = [16.0, 9.0] }\n",
-    );
-    let mut next = crate::util::uniform(2024);
-    for k in 0..120 {
-        let (px, py, r) = (0.5 + 15.0 * next(), 0.5 + 8.0 * next(), 0.2 + 0.7 * next());
-        let color = if k % 10 == 0 {
-            "color = \"#3366cc80\"\n"
-        } else {
-            ""
-        };
-        // Every other ball turns, drawn with its orientation line.
-        let turning = if k % 2 == 1 {
-            format!("angle = {}\nangular_velocity = 1.0\n", 6.0 * next())
-        } else {
-            String::new()
-        };
-        text += &format!(
-            "[[body]]\nmass = 1.0\nposition = [{px}, {py}]\nshape = {{ circle = {{ radius = {r} }} }}\n{color}{turning}"
-        );
-    }
-    let s = scene(&text);
+    let s = large_bodies(2024, |next, _| {
+        format!("{{ circle = {{ radius = {} }} }}", 0.2 + 0.7 * next())
+    });
     let looks = physframes::render::looks::Looks::new(
         &s.bodies,
         &Camera::fit(s.render.view, s.render.width, s.render.height),
@@ -452,63 +431,66 @@ fn discs_too_large_to_stamp_are_scanned_as_polygons_and_look_like_their_paths() 
         still > 30 && turning > 30,
         "{still} still and {turning} turning discs drawn as polygons"
     );
-    let (fast, paths, _) = crate::util::first_frame_both_ways(&s);
-    let (largest, count) = diff(&fast, &paths);
-    let covered = paths
-        .pixels()
-        .iter()
-        .filter(|p| (p.red(), p.green(), p.blue()) != (255, 255, 255))
-        .count();
-    eprintln!(
-        "large discs against exact paths: largest {largest}/255, {count} of {covered} covered pixels differ"
-    );
-    assert!(largest <= 64 + 64 + 32, "largest difference {largest}/255");
-    let rims: f64 = s
-        .bodies
-        .iter()
-        .map(|b| match b.shape {
-            Shape::Circle { radius } => {
-                let r = 80.0 * radius;
-                7.0 * std::f64::consts::PI * r + if b.turns { 3.5 * r } else { 0.0 }
-            }
-            _ => 0.0,
-        })
-        .sum();
-    assert!(
-        (count as f64) < rims,
-        "{count} pixels differ, {rims} on the rims"
-    );
-    assert!(covered > 300_000, "the discs cover {covered} pixels");
+    let rims = |b: &physframes::scene::Body| match b.shape {
+        Shape::Circle { radius } => {
+            let r = 80.0 * radius;
+            7.0 * std::f64::consts::PI * r + if b.turns { 3.5 * r } else { 0.0 }
+        }
+        _ => 0.0,
+    };
+    large_against_paths(&s, "discs", 64 + 64 + 32, rims);
 }
 
 #[test]
 fn boxes_and_polygons_too_large_to_stamp_are_filled_in_layers_and_look_like_their_paths() {
     // Crates and wedges too large for a sprite (over 24 pixels from the centre to a
-    // corner), half turning, in the default colours and a tenth translucent. They are
-    // scanned as smaller ones are, whose stroke differs from tiny-skia's only where
-    // its round joins are cut into chords, by 29/255 at most (`every_scene.rs`); in
-    // opaque colours the ring's outer side is filled in the edge's colour and its
-    // inner side over it in the fill's, which adds at most a quarter of the fill's
-    // difference from what lies under it, where the fill's edge crosses a pixel
-    // (`raster::fill_layers`): 64/255.
-    let mut text = String::from(
-        "[render]\nwidth = 1280\nheight = 720\nview = { min = [0.0, 0.0], max = [16.0, 9.0] }\n",
-    );
-    let mut next = crate::util::uniform(77);
-    for k in 0..120 {
-        let (px, py) = (0.5 + 15.0 * next(), 0.5 + 8.0 * next());
+    // corner). They are scanned as smaller ones are, whose stroke differs from
+    // tiny-skia's only where its round joins are cut into chords, by 29/255 at most
+    // (`every_scene.rs`); in opaque colours the ring's outer side is filled in the
+    // edge's colour and its inner side over it in the fill's, which adds at most a
+    // quarter of the fill's difference from what lies under it, where the fill's edge
+    // crosses a pixel (`raster::fill_layers`): 64/255. Only pixels within a pixel of
+    // the three outlines (the fill's edge and the ring's two sides, 3.5 pixels in all)
+    // can differ.
+    let s = large_bodies(77, |next, k| {
         let (w, h) = (0.5 + 0.8 * next(), 0.5 + 0.8 * next());
-        let shape = if k % 3 == 0 {
+        if k % 3 == 0 {
             format!("{{ polygon = {{ points = [[0.0, 0.0], [{w}, 0.1], [0.2, {h}]] }} }}")
         } else {
             format!("{{ box = {{ width = {w}, height = {h} }} }}")
+        }
+    });
+    let rims = |b: &physframes::scene::Body| {
+        let perimeter = match &b.shape {
+            Shape::Box { width, height } => 2.0 * (width + height),
+            Shape::Polygon { points } => (0..points.len())
+                .map(|i| (points[(i + 1) % points.len()] - points[i]).length())
+                .sum(),
+            _ => 0.0,
         };
+        3.5 * 80.0 * perimeter
+    };
+    large_against_paths(&s, "boxes and wedges", 29 + 64, rims);
+}
+
+/// A 1280 × 720 scene (80 pixels a world unit) of 120 bodies of `shape(next, k)`, as a
+/// user writes them: at random places and angles, in the default colours but every
+/// tenth translucent (its stroke then goes through the ring's scan, not two fills),
+/// every other one turning.
+fn large_bodies(seed: u64, shape: impl Fn(&mut dyn FnMut() -> f64, usize) -> String) -> Scene {
+    let mut text = String::from(
+        "[render]\nwidth = 1280\nheight = 720\nview = { min = [0.0, 0.0], max = [16.0, 9.0] }\n",
+    );
+    let mut next = crate::util::uniform(seed);
+    for k in 0..120 {
+        let (px, py) = (0.5 + 15.0 * next(), 0.5 + 8.0 * next());
+        let shape = shape(&mut next, k);
+        let angle = 6.0 * next();
         let color = if k % 10 == 0 {
             "color = \"#3366cc80\"\n"
         } else {
             ""
         };
-        let angle = 6.0 * next();
         let turning = if k % 2 == 1 {
             "angular_velocity = 1.0\n"
         } else {
@@ -518,8 +500,19 @@ fn boxes_and_polygons_too_large_to_stamp_are_filled_in_layers_and_look_like_thei
             "[[body]]\nmass = 1.0\nposition = [{px}, {py}]\nshape = {shape}\nangle = {angle}\n{color}{turning}"
         );
     }
-    let s = scene(&text);
-    let (fast, paths, _) = crate::util::first_frame_both_ways(&s);
+    scene(&text)
+}
+
+/// Draws the scene's first frame the fast ways and as paths, and checks that no channel
+/// differs by more than `largest`/255, and that fewer pixels differ than lie on the
+/// bodies' rims (`rims` of each body, in pixels), of the more than 300,000 covered.
+fn large_against_paths(
+    s: &Scene,
+    what: &str,
+    bound: u8,
+    rims: impl Fn(&physframes::scene::Body) -> f64,
+) {
+    let (fast, paths, _) = crate::util::first_frame_both_ways(s);
     let (largest, count) = diff(&fast, &paths);
     let covered = paths
         .pixels()
@@ -527,30 +520,15 @@ fn boxes_and_polygons_too_large_to_stamp_are_filled_in_layers_and_look_like_thei
         .filter(|p| (p.red(), p.green(), p.blue()) != (255, 255, 255))
         .count();
     eprintln!(
-        "large boxes and wedges against exact paths: largest {largest}/255, {count} of {covered} covered pixels differ"
+        "large {what} against exact paths: largest {largest}/255, {count} of {covered} covered pixels differ"
     );
-    assert!(largest <= 29 + 64, "largest difference {largest}/255");
-    // Only pixels within a pixel of the three outlines (the fill's edge and the ring's
-    // two sides, 3.5 pixels in all) can differ.
-    let rims: f64 = s
-        .bodies
-        .iter()
-        .map(|b| {
-            let perimeter = match &b.shape {
-                Shape::Box { width, height } => 2.0 * (width + height),
-                Shape::Polygon { points } => (0..points.len())
-                    .map(|i| (points[(i + 1) % points.len()] - points[i]).length())
-                    .sum(),
-                _ => 0.0,
-            };
-            3.5 * 80.0 * perimeter
-        })
-        .sum();
+    assert!(largest <= bound, "largest difference {largest}/255");
+    let rims: f64 = s.bodies.iter().map(rims).sum();
     assert!(
         (count as f64) < rims,
         "{count} pixels differ, {rims} on the rims"
     );
-    assert!(covered > 300_000, "the shapes cover {covered} pixels");
+    assert!(covered > 300_000, "the {what} cover {covered} pixels");
 }
 
 /// Draws the scene's first frame with sprites and with paths, and checks that they
