@@ -182,8 +182,10 @@ impl BodyLook {
         // A disc too large to stamp may be drawn by the scan converter, turning or not,
         // as a polygon on its circle's curve; its stroke is the ring between the curves
         // a half-width w outside and inside it, the inner side wound against the outer.
+        // Larger ones (past the general scan's reach, whose points would also grow
+        // without bound) stay paths.
         let disc = circle
-            .filter(|&r| r > MAX_SPRITE_REACH)
+            .filter(|&r| r > MAX_SPRITE_REACH && r <= MAX_GENERAL_REACH)
             .and_then(|r| raster::disc(r, OUTLINE_HALF_WIDTH as f32))
             .map(|[fill, outer, mut inner]| {
                 inner.reverse();
