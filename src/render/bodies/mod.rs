@@ -3,9 +3,10 @@
 
 use glam::DVec2;
 use tiny_skia::{
-    Color, FillRule, LineCap, LineJoin, Paint, Path, PathBuilder, PathSegment, Pixmap, Stroke,
-    Transform,
+    Color, FillRule, LineJoin, Paint, Path, PathBuilder, PathSegment, Pixmap, Stroke, Transform,
 };
+
+mod orientation;
 
 pub use super::arrows::{draw_arrow, draw_arrow_path};
 use super::camera::Camera;
@@ -13,9 +14,6 @@ use super::raster;
 use super::sprite::{Ink, MAX_SPRITE_REACH};
 use crate::scene::{Body, Rgba, Shape};
 use crate::sim::rigid::rotate;
-
-/// The width, in pixels, of a turning circle's orientation line.
-const ORIENTATION_WIDTH: f32 = 1.5;
 
 /// How a body is drawn, prepared once per render in pixel units.
 ///
@@ -556,57 +554,6 @@ impl BodyLook {
             pixmap.stroke_path(outline, &paint, &outline_stroke(), at, None);
         }
         self.draw_points(pixmap, x, y, at);
-    }
-
-    /// Draws a turning circle's orientation: a line from its centre at pixel (x, y) to
-    /// its rim in the direction of its body x axis, turned by `theta` (the world's
-    /// counter-clockwise, so (cos θ, -sin θ) in pixels).
-    pub fn draw_orientation(&self, pixmap: &mut Pixmap, x: f32, y: f32, theta: f64) {
-        let Some(r) = self.marker else {
-            return;
-        };
-        let (s, c) = theta.sin_cos();
-        let mut pb = PathBuilder::new();
-        pb.move_to(x, y);
-        pb.line_to(x + r * c as f32, y - r * s as f32);
-        let Some(line) = pb.finish() else {
-            return;
-        };
-        let mut paint = Paint {
-            anti_alias: true,
-            ..Paint::default()
-        };
-        paint.set_color(self.edge);
-        let stroke = Stroke {
-            width: ORIENTATION_WIDTH,
-            line_cap: LineCap::Round,
-            ..Stroke::default()
-        };
-        pixmap.stroke_path(&line, &paint, &stroke, Transform::identity(), None);
-    }
-
-    /// Draws a turning circle's orientation as [`BodyLook::draw_orientation`] does,
-    /// through the scan converter: the stroke's polygon (the line with round caps, each
-    /// cap's half circle cut into six 30° chords, within 0.026 pixel of the arc) filled
-    /// with tiny-skia's coverage, without its set-up per path. It differs from the path
-    /// only where a chord and tiny-skia's curve put a crossing on different sides of a
-    /// quarter-pixel sample (`tests/integration/every_scene.rs` bounds it). Used where
-    /// the disc is a stamped sprite: a pile of rolling discs draws thousands a frame.
-    pub fn draw_orientation_fast(&self, pixmap: &mut Pixmap, x: f32, y: f32, theta: f64) {
-        let Some(r) = self.marker else {
-            return;
-        };
-        let (s, c) = theta.sin_cos();
-        // The line's ends as the path takes them, in f32.
-        let tip = (x + r * c as f32, y - r * s as f32);
-        let mut outline = Vec::with_capacity(14);
-        raster::capsule(
-            (f64::from(x), f64::from(y)),
-            (f64::from(tip.0), f64::from(tip.1)),
-            f64::from(ORIENTATION_WIDTH) / 2.0,
-            &mut outline,
-        );
-        raster::fill_convex(pixmap, &outline, Ink::of(self.edge));
     }
 
     /// Draws an outline body's fill, then its edge, each in the colour given (or not
