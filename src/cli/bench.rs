@@ -12,8 +12,9 @@
 //! absolute rates do not. The ratio is taken round by round, each scene's run over the
 //! reference's run of the same round, and the median of the rounds is shown, with the
 //! lowest and highest round after the row: on a shared machine one round's ratio can
-//! be a tenth off, and the spread says how far to trust the median. Scenes with trails also give what their first and last
-//! hundred frames cost, which should be alike. `--simulate-only` times the simulation alone, stepping the
+//! be a quarter off, and the spread says how far to trust the median. Scenes with
+//! trails also give what their first and last hundred frames cost, which should be
+//! alike. `--simulate-only` times the simulation alone, stepping the
 //! scene's `Simulation` from t = 0 to its last frame with nothing drawn or written, and
 //! reports nanoseconds per body-step; for a scene of explicit Euler under gravity and
 //! linear drag on equal masses, it times the hand-written loop of the same physics
@@ -190,8 +191,8 @@ pub fn run(args: BenchArgs) -> Result<()> {
     }
     let rate = |m: &RenderRun| m.frames as f64 / m.wall_s;
     // Each round's ratio: a scene's frame rate over the reference's in the same round,
-    // the two measured minutes apart at most, so that the machine's drift between
-    // rounds cancels.
+    // the two measured seconds apart, so that the machine's drift between rounds
+    // cancels.
     let ratios: Vec<Option<RoundRatios>> = runs
         .iter()
         .map(|scene_runs| {

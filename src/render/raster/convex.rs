@@ -484,9 +484,10 @@ pub fn fill_turned(
 /// (its points in either order) in the second over it, both placed by `at` as
 /// [`fill_turned`] places its points.
 ///
-/// For a disc in opaque colours, with `under` its edge's curve moved a stroke's
-/// half-width out and `over` moved as far in ([`super::disc`]), this stands for the
-/// fill and then the stroke, ring = outer - inner. With a pixel's coverages c_f by
+/// For an outline in opaque colours, with `under` its stroke's outer side and `over`
+/// its inner side (a disc's curve moved a half-width out and in, [`super::disc`], or
+/// a convex outline's [`super::Ring`]), this stands for the fill and then the
+/// stroke, ring = outer - inner. With a pixel's coverages c_f by
 /// the fill, c_o by the outer side and c_i by the inner one (c_i ≤ c_f ≤ c_o, and the
 /// ring's c_o - c_i), the fill (F) then the stroke (E) over what lies under (B) give
 /// E·(c_o - c_i) + (1 - c_o + c_i)·(F·c_f + B·(1 - c_f)), and the two fills

@@ -1,5 +1,6 @@
 //! The polygons of strokes as tiny-skia's stroker builds them: a line's rectangle, a
-//! line with round caps, and the ring of a convex outline's stroke.
+//! line with round caps, and the ring of a convex outline's stroke; and a disc too
+//! large to stamp, as polygons on tiny-skia's curve for its circle.
 
 use tiny_skia::{PathBuilder, PathSegment};
 
