@@ -470,16 +470,13 @@ impl BodyLook {
             return;
         }
         if let (Some(disc), false) = (&self.disc, self.turns) {
-            self.draw_scanned(pixmap, disc, Transform::from_translate(x, y), true);
+            self.draw_scanned(pixmap, disc, Transform::from_translate(x, y));
             return;
         }
         match (&self.turned, self.turns) {
-            (Some(turned), false) => self.draw_scanned(
-                pixmap,
-                turned,
-                Transform::from_translate(x, y),
-                self.too_large_to_stamp(),
-            ),
+            (Some(turned), false) => {
+                self.draw_scanned(pixmap, turned, Transform::from_translate(x, y))
+            }
             _ => self.draw(pixmap, x, y),
         }
     }
@@ -490,22 +487,18 @@ impl BodyLook {
     }
 
     /// Draws a convex outline (or a disc's polygon) through the scan converter, placed
-    /// by `at`: its fill and then its ring or, with `layers` and in opaque colours,
-    /// its ring's outer side in the edge's colour and its inner side over it in the
-    /// fill's, two fills without a hole, which differ from the first where the fill's
-    /// edge crosses a pixel by at most a quarter of the fill's difference from what
-    /// lies under it ([`raster::fill_layers`]). Layers are for looks too large to
-    /// stamp, whose rings are long: a small look's stroke keeps its exact bounds.
-    fn draw_scanned(
-        &self,
-        pixmap: &mut Pixmap,
-        outline: &TurnedOutline,
-        at: Transform,
-        layers: bool,
-    ) {
+    /// by `at`: its fill and then its ring or, for a look too large to stamp (every
+    /// disc drawn so is) in opaque colours, its ring's outer side in the edge's colour
+    /// and its inner side over it in the fill's, two fills without a hole, which
+    /// differ from the first where the fill's edge crosses a pixel by at most a
+    /// quarter of the fill's difference from what lies under it
+    /// ([`raster::fill_layers`]). Layers are for the large looks, whose rings are
+    /// long: a small look's stroke keeps its exact bounds.
+    fn draw_scanned(&self, pixmap: &mut Pixmap, outline: &TurnedOutline, at: Transform) {
         let (fill, edge) = (Ink::of(self.fill), Ink::of(self.edge));
+        let layers = self.too_large_to_stamp() && fill.is_opaque() && edge.is_opaque();
         match &outline.ring.inner {
-            Some(inner) if layers && fill.is_opaque() && edge.is_opaque() => {
+            Some(inner) if layers => {
                 raster::fill_layers(pixmap, &outline.ring.outer, inner, at, [edge, fill]);
             }
             _ => raster::fill_turned(pixmap, &outline.fill, &outline.ring, at, fill, edge),
@@ -516,7 +509,7 @@ impl BodyLook {
         if let (true, Some(disc)) = (fast, &self.disc) {
             // A disc looks the same at every angle: it is drawn unturned, then its
             // orientation line.
-            self.draw_scanned(pixmap, disc, Transform::from_translate(x, y), true);
+            self.draw_scanned(pixmap, disc, Transform::from_translate(x, y));
             self.draw_orientation_fast(pixmap, x, y, theta);
             return;
         }
@@ -540,7 +533,7 @@ impl BodyLook {
             return;
         }
         if let (true, Some(turned)) = (fast, &self.turned) {
-            self.draw_scanned(pixmap, turned, at, self.too_large_to_stamp());
+            self.draw_scanned(pixmap, turned, at);
             return;
         }
         if let Some(outline) = &self.outline {
