@@ -2,7 +2,7 @@
 # Writes the benchmark scenes of bodies written one `[[body]]` table each, as a user
 # writes them (issue #16): the same moving discs as circles-1000.toml, but in the
 # default colour cycle, and variants with 10,000 bodies, velocity arrows, trails, mixed
-# shapes and turning boxes. Run from the repository's root:
+# shapes, turning boxes and springs shown as coils. Run from the repository's root:
 #   sh scenes/bench/make-scenes.sh
 # The numbers come from a Park-Miller generator (x <- 16807·x mod 2^31 - 1, exact in
 # awk's doubles) and are printed with 4 decimals, so every run writes the same files.
@@ -163,6 +163,23 @@ bodies() {
     bodies 1000 23 turning
     footer
 } >turning-boxes-1000.toml
+
+# springs COUNT: COUNT springs shown as coils, each joining unnamed body 2k to body 2k + 1
+# (named body0, body1, ... by their order): scattered at random, so the coils start
+# long, most of them across a good part of the view, and shorten as the springs pull.
+springs() {
+    awk -v n="$1" 'BEGIN {
+        for (k = 0; k < n; k++)
+            printf "[[force]]\nkind = \"spring\"\na = \"body%d\"\nb = \"body%d\"\nstiffness = 0.5\nrest_length = 0.3\n\n", 2 * k, 2 * k + 1
+    }'
+}
+
+{
+    header springs-300 "1000 moving discs in the default colours, 300 pairs of them joined by springs shown as coils, long at the start." 10.0 "show_springs = true"
+    bodies 1000 47 circles
+    springs 300
+    footer
+} >springs-300.toml
 
 # mixed_contacts COUNT SEED: COUNT circles, boxes and triangles in a grid above a tilted
 # static ramp and a static floor, each at its own angle with a small velocity, arrows on
