@@ -172,7 +172,8 @@ impl Renderer {
         let background = bodies::color(r.background, 1.0);
         static_layer.fill(background);
         overlay.draw_static(&mut static_layer);
-        // With `show_bodies = false` nothing of the bodies is drawn.
+        // With `show_bodies = false` the bodies and their arrows are not drawn; their
+        // trails are, when the scene asks for them (`trails = true`): the paths alone.
         let shown = if r.show_bodies {
             scene.bodies.as_slice()
         } else {
@@ -180,8 +181,8 @@ impl Renderer {
         };
         // Bodies that look alike share one look, wherever they stand in the file.
         let looks::Looks { looks, look_of } = looks::Looks::new(shown, &camera, drawing);
-        // Trails in each drawn body's colour at 55% opacity.
-        let trails = TrailStyle::new(shown.iter().map(|b| bodies::color(b.color, 0.55)));
+        // Trails in each body's colour at 55% opacity, the bodies drawn or not.
+        let trails = TrailStyle::new(scene.bodies.iter().map(|b| bodies::color(b.color, 0.55)));
         let turning_fast = drawing == BodyDrawing::Sprites
             && look_of
                 .iter()

@@ -129,7 +129,8 @@ pub struct RenderSettings {
     pub force_scale: Option<f64>,
     /// Whether each frame shows a line with t and the frame number.
     pub hud: bool,
-    /// Whether the bodies are drawn (a phase plot may show only their traces).
+    /// Whether the bodies (and their arrows) are drawn; their trails are drawn when
+    /// `trails` is set either way (a phase plot may show only traces or paths).
     pub show_bodies: bool,
     /// Whether springs are drawn, as coils between their ends, under the bodies.
     pub show_springs: bool,

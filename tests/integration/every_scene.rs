@@ -775,6 +775,70 @@ fn a_trail_drawn_segment_by_segment_looks_like_one_stroke_through_its_points() {
 }
 
 #[test]
+fn hidden_bodies_still_leave_their_trails() {
+    // `show_bodies = false` hides the bodies, not the trails a scene asks for: a frame
+    // is the frame with the bodies shown, less the bodies. Two discs 6 pixels across
+    // each (20 pixels a unit), thrown; every pixel where the two frames differ lies
+    // within a body's reach of its last position (its radius and stroke, and a pixel
+    // of anti-aliasing), and the trails cover pixels outside those discs.
+    let text = |shown: bool| {
+        format!(
+            "[simulation]\nduration = 2.0\n[render]\nwidth = 320\nheight = 180\nfps = 30\ntrails = true\nshow_bodies = {shown}\nview = {{ min = [0.0, 0.0], max = [16.0, 9.0] }}\n[[body]]\nmass = 1.0\nposition = [2.0, 2.0]\nvelocity = [3.0, 5.5]\nshape = {{ circle = {{ radius = 0.15 }} }}\n[[body]]\nmass = 1.0\nposition = [14.0, 7.0]\nvelocity = [-4.0, -1.0]\nshape = {{ circle = {{ radius = 0.15 }} }}\n[[force]]\nkind = \"gravity\"\ng = [0.0, -3.0]\n"
+        )
+    };
+    let frames = 61;
+    let draw = |shown: bool| {
+        let s = crate::util::scene(&text(shown));
+        let renderer = physframes::render::Renderer::new(
+            &s,
+            physframes::render::ArrowScales {
+                velocity: 1.0,
+                force: 1.0,
+            },
+        );
+        let history = trail_history(&s, frames);
+        let frame = draw_trail_frame(&renderer, &s, &history, frames as usize - 1, &mut None);
+        let last = history[frames as usize - 1]
+            .last()
+            .expect("a frame")
+            .clone();
+        let centres: Vec<(f64, f64)> = last
+            .iter()
+            .map(|p| renderer.camera().to_pixel_f64(*p))
+            .collect();
+        (frame, renderer.new_frame(), centres)
+    };
+    let (hidden, background, centres) = draw(false);
+    let (shown, _, _) = draw(true);
+    // The radius, 3 pixels, and the stroke's half width and a pixel of anti-aliasing.
+    let reach = 3.0 + 1.0 + 1.5;
+    let near = |i: usize| {
+        let (x, y) = ((i % 320) as f64 + 0.5, (i / 320) as f64 + 0.5);
+        centres.iter().any(|c| (x - c.0).hypot(y - c.1) <= reach)
+    };
+    let (mut trail_pixels, mut differing) = (0, 0);
+    for (i, ((h, s), b)) in hidden
+        .pixels()
+        .iter()
+        .zip(shown.pixels())
+        .zip(background.pixels())
+        .enumerate()
+    {
+        if h != s {
+            assert!(near(i), "pixel {i} differs away from the bodies");
+            differing += 1;
+        }
+        if h != b && !near(i) {
+            trail_pixels += 1;
+        }
+    }
+    // Each body's disc, hidden: about π·3² pixels, and at least half of them.
+    assert!(differing >= 28, "{differing} pixels differ");
+    // Two trails of 60 segments over 50 to 160 pixels of path, 1.5 pixels wide.
+    assert!(trail_pixels > 200, "the trails cover {trail_pixels} pixels");
+}
+
+#[test]
 fn turning_bodies_drawn_from_the_last_frames_damage_give_the_pixels_of_a_whole_redraw() {
     // A turning box's damage is the box of its turned corners, grown for its stroke:
     // tighter than the circle of its reach, it must still hold every pixel drawn.
