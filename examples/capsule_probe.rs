@@ -1,6 +1,6 @@
 //! Times the trails' segments alone: 1000 capsules 1.5 pixels wide, each from a random
 //! point a short random step, scan-converted with `raster::cover_convex` into a
-//! coverage and owner kept as `render/trails.rs` keeps them (best of 200 frames).
+//! coverage and owner kept as `render/trails.rs` keeps them (best of 2000 frames).
 //!
 //! ```sh
 //! cargo run --release --example capsule_probe
@@ -28,8 +28,7 @@ fn main() {
     let mut coverage = vec![0u8; (w * h) as usize];
     let mut outline = Vec::new();
     let mut best = f64::MAX;
-    let mut touched = 0usize;
-    for _ in 0..200 {
+    for _ in 0..2000 {
         coverage.fill(0);
         let t = Instant::now();
         for &(a, b) in &segments {
@@ -41,8 +40,8 @@ fn main() {
             });
         }
         best = best.min(t.elapsed().as_secs_f64());
-        touched = coverage.iter().filter(|&&c| c != 0).count();
     }
+    let touched = coverage.iter().filter(|&&c| c != 0).count();
     let sum: u64 = coverage.iter().map(|&c| u64::from(c)).sum();
     println!(
         "1000 capsules: best {:.3} ms, {touched} pixels covered, coverage sum {sum}",

@@ -11,7 +11,8 @@
 //! encoding, the mean PNG size and the fraction of the frame's 8-pixel tiles that were
 //! compressed afresh (the rest copied from the worker's frame before); then, for the
 //! last frame, what encoding it costs with no tile marked, with its own marks again, and
-//! with every tile marked (best of 20, or of the `RUNS` environment variable).
+//! with every tile marked (best of 20, or of the `RUNS` environment variable); with
+//! `ONLY_OWN=1`, only with its own marks (what a worker does), for profiling that alone.
 
 use std::path::Path;
 use std::sync::Arc;
@@ -98,6 +99,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let mut clean = TileMask::new(width, height);
             clean.clear();
             let own = state.changed().clone();
+            if std::env::var("ONLY_OWN").is_ok() {
+                println!("own marks: {:.3} ms", best(&mut coder, &own));
+                return Ok(());
+            }
             println!(
                 "frame {k} again: {:.3} ms with no tile marked, {:.3} with its marks, {:.3} with every tile",
                 best(&mut coder, &clean),

@@ -22,6 +22,7 @@ use super::frame::{finish_png, next_bit, start_png};
 use super::static_rows::{Item, Sums};
 use super::*;
 use crate::render::damage::TileMask;
+use crate::render::raster::prefetch;
 
 /// A worker's last frame as encoded: its PNG, and where each nonzero tile's bits lie in
 /// it, with the sums that give any clean span's Adler-32.
@@ -137,6 +138,24 @@ impl FrameCoder {
                         for (d, a) in dirty.iter_mut().zip(changed.row(y - 1)) {
                             *d |= a;
                         }
+                    }
+                }
+            }
+            // The pixels of the tiles to compress afresh AHEAD rows down, and of those
+            // above them, asked for now: the tiles are scattered, so the processor does
+            // not foresee them, and the filter's reads of them waited on memory (a
+            // fifth of a trail frame's encoding, `trail_probe`).
+            if previous.is_some() && y + AHEAD < self.height as usize {
+                let ahead = y + AHEAD;
+                let rows = (ahead * stride, (ahead - 1) * stride);
+                let marks = changed.row(ahead).iter().zip(changed.row(ahead - 1));
+                for (k, (&c, &a)) in marks.enumerate() {
+                    let mut bits = c | a;
+                    while bits != 0 {
+                        let at = (64 * k + bits.trailing_zeros() as usize) * TILE;
+                        bits &= bits - 1;
+                        prefetch(data, rows.0 + at);
+                        prefetch(data, rows.1 + at);
                     }
                 }
             }
@@ -261,6 +280,10 @@ impl FrameCoder {
         self.png.insert(png).as_slice()
     }
 }
+
+/// How many rows ahead [`FrameCoder::encode`] asks for the pixels of the tiles it will
+/// compress afresh: 2, 4 and 8 did alike in `trail_probe` (`ONLY_OWN=1`).
+const AHEAD: usize = 4;
 
 /// For the eight bytes f_j of a little-endian word, returns Σ f_j and Σ j·f_j, four
 /// bytes at a time in 16-bit lanes of one multiply each (a scalar loop over the bytes
