@@ -65,6 +65,8 @@ impl TrailStyle {
                 })
             })
             .collect();
+        // Each pixel holds its colour's index in 24 bits ([`pack`]).
+        debug_assert!(inks.len() <= 1 << 24, "{} trail colours", inks.len());
         TrailStyle { inks, ink_of }
     }
 }
@@ -124,9 +126,9 @@ impl TrailFrame {
 pub struct TrailLayer {
     /// What frames start from: the static layer with the trails over it.
     base: Pixmap,
-    /// Each pixel's trail coverage so far, and the trail colour that holds it.
-    coverage: Vec<u8>,
-    owner: Vec<u32>,
+    /// Each pixel's trail coverage so far and the trail colour that holds it
+    /// ([`pack`]).
+    held: Vec<u32>,
     /// How many frames of the history the layer holds.
     frames: usize,
     /// The points of one segment's outline, reused.
@@ -145,8 +147,7 @@ impl TrailLayer {
         let n = (static_layer.width() * static_layer.height()) as usize;
         TrailLayer {
             base: static_layer.clone(),
-            coverage: vec![0; n],
-            owner: vec![0; n],
+            held: vec![0; n],
             frames: 0,
             outline: Vec::new(),
             changed: TileMask::new(static_layer.width(), static_layer.height()),
@@ -181,8 +182,7 @@ impl TrailLayer {
     ) {
         if history.len() < self.frames {
             self.base.data_mut().copy_from_slice(static_layer.data());
-            self.coverage.fill(0);
-            self.owner.fill(0);
+            self.held.fill(0);
             self.frames = 0;
             self.changed.set_whole();
         }
@@ -199,11 +199,19 @@ impl TrailLayer {
             if let Some(frames) = frames {
                 let w = width as usize;
                 let base = self.base.data_mut();
+                // A segment's pixels come row after row: the row of the last pixel is
+                // kept, so that a row is found by division once a row, not once a
+                // pixel.
+                let (mut row, mut row_start) = (0, 0);
                 for pixels in &frames {
                     for &(p, rgba) in pixels.iter() {
                         let p = p as usize;
                         base[4 * p..4 * p + 4].copy_from_slice(&rgba);
-                        self.changed.mark(p % w, p / w);
+                        if p < row_start || p >= row_start + w {
+                            row = p / w;
+                            row_start = row * w;
+                        }
+                        self.changed.mark(p - row_start, row);
                     }
                 }
                 self.frames = target;
@@ -214,8 +222,7 @@ impl TrailLayer {
             // on its own, from the static layer.
             self.shared = None;
             self.base.data_mut().copy_from_slice(static_layer.data());
-            self.coverage.fill(0);
-            self.owner.fill(0);
+            self.held.fill(0);
             self.frames = 0;
             self.changed.set_whole();
         }
@@ -236,7 +243,7 @@ impl TrailLayer {
                     (style, camera, clip, static_layer),
                     (width, height),
                     (before, positions),
-                    (&mut self.coverage, &mut self.owner, &mut self.outline),
+                    (&mut self.held, &mut self.outline),
                     |p, rgba| {
                         base[4 * p..4 * p + 4].copy_from_slice(&rgba);
                         if p < row_start || p >= row_start + w {
@@ -274,14 +281,14 @@ fn rasterise_frame(
     (style, camera, clip, static_layer): Drawing<'_>,
     (width, height): (u32, u32),
     (before, positions): (&[DVec2], &[DVec2]),
-    (coverage, owner, outline): (&mut [u8], &mut [u32], &mut Vec<raster::Point>),
+    (held, outline): (&mut [u32], &mut Vec<raster::Point>),
     mut put: impl FnMut(usize, [u8; 4]),
 ) {
     let layer = static_layer.data();
     let (w, h) = (width as usize, height as usize);
     for (i, &ink) in style.ink_of.iter().enumerate() {
         // The pixels a segment reads are wherever its body is: cache misses, one for
-        // the coverage, one for the owner and one for the static layer, each of a few
+        // the coverage and owner held and one for the static layer, each of a few
         // rows (a third of rasterising `trails-1000` waited on them). They are asked
         // for a few bodies ahead, around where the body is now.
         if let Some(ahead) = positions.get(i + PREFETCH_AHEAD) {
@@ -290,8 +297,7 @@ fn rasterise_frame(
                 let (x, y) = (x as usize, y as usize);
                 for row in y - 1..=y + 1 {
                     let p = row * w + x;
-                    prefetch(coverage, p);
-                    prefetch(owner, p);
+                    prefetch(held, p);
                     prefetch(layer, 4 * p);
                 }
             }
@@ -306,10 +312,12 @@ fn rasterise_frame(
         raster::capsule(a, b, HALF_WIDTH, outline);
         let trail = style.inks[ink as usize];
         raster::cover_convex(width, height, outline, |p, c| {
-            let held = coverage[p];
-            if c > held || (c == held && owner[p] != ink) {
-                coverage[p] = c;
-                owner[p] = ink;
+            // The coverage held in the low byte, its colour above: a newer segment
+            // takes the pixel when stronger, or as strong and of another colour.
+            let now = held[p];
+            let (coverage, owner) = ((now & 0xff) as u8, now >> 8);
+            if c > coverage || (c == coverage && owner != ink) {
+                held[p] = pack(c, ink);
                 let k = 4 * p;
                 let mut rgba = [layer[k], layer[k + 1], layer[k + 2], layer[k + 3]];
                 trail.blend(&mut rgba, c);
@@ -317,6 +325,15 @@ fn rasterise_frame(
             }
         });
     }
+}
+
+/// A pixel's trail as the rasterisation holds it: the strongest segment's coverage in
+/// the low byte and its trail colour's index above, in one word so that a segment
+/// reads one array where it was two (a colour index is below 2^24: a scene has at most
+/// 10,000,000 bodies, and so as many trail colours at most).
+#[inline]
+fn pack(coverage: u8, owner: u32) -> u32 {
+    owner << 8 | u32::from(coverage)
 }
 
 /// How many bodies ahead [`rasterise_frame`] asks for the pixels a segment will read.
@@ -345,11 +362,10 @@ pub struct SharedTrails {
     kept: Mutex<Kept>,
 }
 
-/// The rasterisation: each pixel's strongest coverage so far and its owner.
+/// The rasterisation: each pixel's strongest coverage so far and its owner ([`pack`]).
 #[derive(Default)]
 struct Raster {
-    coverage: Vec<u8>,
-    owner: Vec<u32>,
+    held: Vec<u32>,
     outline: Vec<raster::Point>,
     /// How many frames of the history are rasterised.
     frames: usize,
@@ -449,9 +465,8 @@ impl SharedTrails {
         let mut r = lock(&self.raster);
         let (width, height) = (drawing.3.width(), drawing.3.height());
         let n = (width * height) as usize;
-        if r.coverage.len() != n {
-            r.coverage = vec![0; n];
-            r.owner = vec![0; n];
+        if r.held.len() != n {
+            r.held = vec![0; n];
         }
         while r.frames < history.len() {
             let frame = r.frames;
@@ -460,17 +475,12 @@ impl SharedTrails {
                 frame.checked_sub(1).and_then(|j| history.get(j)),
                 history.get(frame),
             ) {
-                let Raster {
-                    coverage,
-                    owner,
-                    outline,
-                    ..
-                } = &mut *r;
+                let Raster { held, outline, .. } = &mut *r;
                 rasterise_frame(
                     drawing,
                     (width, height),
                     (before, positions),
-                    (coverage, owner, outline),
+                    (held, outline),
                     |p, rgba| changed.push((p as u32, rgba)),
                 );
             }
