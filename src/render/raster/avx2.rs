@@ -149,6 +149,26 @@ pub(super) unsafe fn blend_plain(
     }
 }
 
+/// Blends `ink` into pixels lo..hi of pixel row `py` (clipped to `width`, at most
+/// [`MAX_WIDTH`]) with the coverage of one span a[k]..b[k] of quarter-pixel columns in
+/// each sub-row k: a side of a ring's row (`convex.rs`), blended as a row of a polygon
+/// without a hole is.
+///
+/// # Safety
+/// The processor must have AVX2 ([`available`]).
+#[target_feature(enable = "avx2")]
+pub(super) unsafe fn blend_spans(
+    data: &mut [u8],
+    width: usize,
+    py: usize,
+    (a, b): ([i64; 4], [i64; 4]),
+    (lo, hi): (i64, i64),
+    ink: &Ink,
+) {
+    let lanes = |v: [i64; 4]| _mm_setr_epi32(v[0] as i32, v[1] as i32, v[2] as i32, v[3] as i32);
+    blend_row(data, width, py, lanes(a), lanes(b), lo, hi, ink);
+}
+
 /// From the crossings of a pixel row's four sub-rows by both chains (lanes 0..4 and
 /// 4..8 of `xs`), the row's spans a..b of quarter-pixel columns (a = b = 0 for a
 /// sub-row without one) and the pixels lo..hi they touch, clipped to `width`.

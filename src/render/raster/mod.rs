@@ -502,6 +502,74 @@ mod tests {
     }
 
     #[test]
+    fn rings_blended_a_side_at_a_time_blend_the_coverage_pixel_by_pixel() {
+        // A ring's rows with two spans a sub-row, the hole between, are blended as two
+        // rows of a polygon without a hole (AVX2, where the processor has it); the
+        // other rows, and processors without AVX2, go pixel by pixel. Either way the
+        // bytes must be those of the ring's coverage blended pixel by pixel: rings of
+        // many sizes and shapes (holes of a ring's width, thin holes, holes off centre
+        // that reach the outer side, holes wound either way), opaque and translucent,
+        // inside images 37 and 300 pixels wide and across their edges.
+        use super::convex::{cover_holed, fill_holed};
+        let inks = [
+            Color::from_rgba8(0x1f, 0x4e, 0x9c, 0xff),
+            Color::from_rgba8(0xc0, 0x39, 0x2b, 0x99),
+        ];
+        let mut separable = 0;
+        for (w, h) in [(37u32, 29u32), (300, 90)] {
+            let mut background = Pixmap::new(w, h).expect("pixmap");
+            for (i, px) in background.data_mut().chunks_exact_mut(4).enumerate() {
+                let v = (i * 37 % 251) as u8;
+                px.copy_from_slice(&[v, 255 - v, v / 2, 255]);
+            }
+            for k in 0..500u32 {
+                let a = f64::from(k) * 2.399_963;
+                let (cx, cy) = (
+                    -8.0 + f64::from(k % 19) * f64::from(w + 16) / 18.0 + 0.13,
+                    -8.0 + f64::from(k % 11) * f64::from(h + 16) / 10.0 + 0.29,
+                );
+                let r = 1.5 + f64::from(k % 29) * 1.9;
+                let sides = 3 + k % 9;
+                let stretch = 0.4 + f64::from(k % 5) * 0.3;
+                // The hole: the outline shrunk by a ring's width or more, or thin, and
+                // sometimes moved off centre or wound the same way as the outline.
+                let inset = [1.5, 0.3, 0.6 * r, 0.2][(k / 7 % 4) as usize];
+                let off = if k % 13 == 0 { 0.5 * r } else { 0.0 };
+                let polygon = |radius: f64, dx: f64| -> Vec<Point> {
+                    (0..sides)
+                        .map(|i| {
+                            let t = a + f64::from(i) * std::f64::consts::TAU / f64::from(sides);
+                            (
+                                (cx + dx + radius * t.cos()) as f32,
+                                (cy + stretch * radius * t.sin()) as f32,
+                            )
+                        })
+                        .collect()
+                };
+                let outer = polygon(r, 0.0);
+                let mut hole = polygon((r - inset).max(0.1), off);
+                if k % 17 != 0 {
+                    hole.reverse();
+                }
+                let ink = ink(inks[(k % 2) as usize]);
+                let mut ours = background.clone();
+                fill_holed(&mut ours, &outer, &hole, ink);
+                let mut theirs = background.clone();
+                let data = theirs.data_mut();
+                cover_holed((w as usize, h as usize), &outer, &hole, |i, c| {
+                    ink.blend(&mut data[4 * i..4 * i + 4], c)
+                });
+                assert!(
+                    ours.data() == theirs.data(),
+                    "ring {k} in {w} × {h}: {outer:?} less {hole:?}"
+                );
+                separable += usize::from(r - inset > 2.0 && off == 0.0);
+            }
+        }
+        assert!(separable > 300, "{separable} rings with a wide hole");
+    }
+
+    #[test]
     fn a_ring_is_the_outer_polygon_less_the_inner() {
         let mut ring = Pixmap::new(16, 16).expect("pixmap");
         let outer = [(2.0, 2.0), (14.0, 2.0), (14.0, 14.0), (2.0, 14.0)];
