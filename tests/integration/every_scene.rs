@@ -543,6 +543,17 @@ pub(crate) fn trail_history(
     snapshots
 }
 
+/// A scene's renderer with arrows at one world unit per unit of speed and of force.
+fn renderer_of(s: &physframes::scene::Scene) -> physframes::render::Renderer {
+    physframes::render::Renderer::new(
+        s,
+        physframes::render::ArrowScales {
+            velocity: 1.0,
+            force: 1.0,
+        },
+    )
+}
+
 /// Draws frame `k` of a scene with trails from the trail layer given.
 fn draw_trail_frame(
     renderer: &physframes::render::Renderer,
@@ -580,13 +591,7 @@ fn trail_scene(
     Vec<physframes::history::PointHistory>,
 ) {
     let s = crate::util::scene(&user_scene(bodies, 0, true, false));
-    let renderer = physframes::render::Renderer::new(
-        &s,
-        physframes::render::ArrowScales {
-            velocity: 1.0,
-            force: 1.0,
-        },
-    );
+    let renderer = renderer_of(&s);
     let history = trail_history(&s, frames);
     (s, renderer, history)
 }
@@ -721,13 +726,7 @@ fn a_trail_drawn_segment_by_segment_looks_like_one_stroke_through_its_points() {
     use tiny_skia::{LineCap, LineJoin, Paint, PathBuilder, Stroke, Transform};
     let text = "[simulation]\nduration = 4.0\n[render]\nwidth = 320\nheight = 180\nfps = 30\ntrails = true\nshow_bodies = true\nview = { min = [0.0, 0.0], max = [16.0, 9.0] }\n[[body]]\nmass = 1.0\nposition = [2.0, 2.0]\nvelocity = [3.0, 5.5]\nshape = { circle = { radius = 0.01 } }\n[[force]]\nkind = \"gravity\"\ng = [0.0, -3.0]\n";
     let s = crate::util::scene(text);
-    let renderer = physframes::render::Renderer::new(
-        &s,
-        physframes::render::ArrowScales {
-            velocity: 1.0,
-            force: 1.0,
-        },
-    );
+    let renderer = renderer_of(&s);
     let frames = s.render.frame_count as usize;
     let history = trail_history(&s, frames as u64);
     let ours = draw_trail_frame(&renderer, &s, &history, frames - 1, &mut None);
@@ -789,13 +788,7 @@ fn hidden_bodies_still_leave_their_trails() {
     let frames = 61;
     let draw = |shown: bool| {
         let s = crate::util::scene(&text(shown));
-        let renderer = physframes::render::Renderer::new(
-            &s,
-            physframes::render::ArrowScales {
-                velocity: 1.0,
-                force: 1.0,
-            },
-        );
+        let renderer = renderer_of(&s);
         let history = trail_history(&s, frames);
         let frame = draw_trail_frame(&renderer, &s, &history, frames as usize - 1, &mut None);
         let last = history[frames as usize - 1]
@@ -858,13 +851,7 @@ fn turning_bodies_drawn_from_the_last_frames_damage_give_the_pixels_of_a_whole_r
         ));
     }
     let s = crate::util::scene(&text);
-    let renderer = physframes::render::Renderer::new(
-        &s,
-        physframes::render::ArrowScales {
-            velocity: 1.0,
-            force: 1.0,
-        },
-    );
+    let renderer = renderer_of(&s);
     let initial = s.initial_state();
     let mut pixmap = renderer.new_frame();
     let mut damage = physframes::render::Damage::default();
