@@ -172,8 +172,7 @@ impl Renderer {
         let background = bodies::color(r.background, 1.0);
         static_layer.fill(background);
         overlay.draw_static(&mut static_layer);
-        // With `show_bodies = false` the bodies and their arrows are not drawn; their
-        // trails are, when the scene asks for them (`trails = true`): the paths alone.
+        // With `show_bodies = false` the bodies and their arrows are not drawn (trails are).
         let shown = if r.show_bodies {
             scene.bodies.as_slice()
         } else {

@@ -415,10 +415,10 @@ fn scan_convex(width: usize, height: usize, chains: &mut Chains, mut put: impl F
 /// columns a..b with each sub-row's full weight (at most two a sub-row, in sub-row
 /// order and left to right within one), and the pixels every sub-row covers whole
 /// (empty when core_lo >= core_hi, or when not every sub-row has one span).
-pub(super) struct HoledRow {
-    pub py: usize,
-    pub spans: [Span; 8],
-    pub n: usize,
+struct HoledRow {
+    py: usize,
+    spans: [Span; 8],
+    n: usize,
     core_lo: i64,
     core_hi: i64,
     holed: bool,
@@ -426,6 +426,7 @@ pub(super) struct HoledRow {
 
 /// The spans of the pixel row holding sub-row `*sy`, from there to the row's end or
 /// `end`, whichever is first, and moves `*sy` past them; `None` when they are empty.
+#[inline(always)]
 fn holed_row(chains: &mut Chains, sy: &mut i64, end: i64, width: usize) -> Option<HoledRow> {
     let max_column = 4 * width as i64;
     let holed = !chains.chains[2].is_empty();
@@ -514,6 +515,7 @@ fn holed_row(chains: &mut Chains, sy: &mut i64, end: i64, width: usize) -> Optio
 }
 
 /// Hands a pixel row's coverage to `put` pixel by pixel, as [`scan_convex`] does.
+#[inline(always)]
 fn put_row(row: &HoledRow, width: usize, put: &mut impl FnMut(usize, u8)) {
     let n = row.n;
     let (core_lo, core_hi) = (row.core_lo, row.core_hi);
