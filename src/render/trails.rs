@@ -197,21 +197,14 @@ impl TrailLayer {
             let frames =
                 shared.pixels_for(self.frames, history, (style, camera, clip, static_layer));
             if let Some(frames) = frames {
-                let w = width as usize;
                 let base = self.base.data_mut();
-                // A segment's pixels come row after row: the row of the last pixel is
-                // kept, so that a row is found by division once a row, not once a
-                // pixel.
-                let (mut row, mut row_start) = (0, 0);
+                let mut rows = Rows::new(width);
                 for pixels in &frames {
                     for &(p, rgba) in pixels.iter() {
                         let p = p as usize;
                         base[4 * p..4 * p + 4].copy_from_slice(&rgba);
-                        if p < row_start || p >= row_start + w {
-                            row = p / w;
-                            row_start = row * w;
-                        }
-                        self.changed.mark(p - row_start, row);
+                        let (x, y) = rows.of(p);
+                        self.changed.mark(x, y);
                     }
                 }
                 self.frames = target;
@@ -231,14 +224,11 @@ impl TrailLayer {
             .checked_sub(1)
             .and_then(|k| history.get(k))
             .map(|p| &p[..]);
-        let w = width as usize;
         for positions in history.iter_from(self.frames) {
             if let Some(before) = previous {
                 let base = self.base.data_mut();
                 let changed = &mut self.changed;
-                // The row of the last pixel marked: pixels come row after row, so a
-                // row is found by division once, not once a pixel.
-                let (mut row, mut row_start) = (0, 0);
+                let mut rows = Rows::new(width);
                 rasterise_frame(
                     (style, camera, clip, static_layer),
                     (width, height),
@@ -246,11 +236,8 @@ impl TrailLayer {
                     (&mut self.held, &mut self.outline),
                     |p, rgba| {
                         base[4 * p..4 * p + 4].copy_from_slice(&rgba);
-                        if p < row_start || p >= row_start + w {
-                            row = p / w;
-                            row_start = row * w;
-                        }
-                        changed.mark(p - row_start, row);
+                        let (x, y) = rows.of(p);
+                        changed.mark(x, y);
                     },
                 );
             }
@@ -264,6 +251,35 @@ impl TrailLayer {
     /// history it is on its own.
     pub fn share(&mut self, shared: Arc<SharedTrails>, worker: usize) {
         self.shared = Some((shared, worker));
+    }
+}
+
+/// The column and row of pixel indices in an image `width` pixels wide that mostly
+/// come row after row, as a segment's do: the row of the last one is kept, so that a
+/// row is found by a division once a row, not once a pixel.
+struct Rows {
+    width: usize,
+    row: usize,
+    start: usize,
+}
+
+impl Rows {
+    fn new(width: u32) -> Self {
+        Rows {
+            width: (width as usize).max(1),
+            row: 0,
+            start: 0,
+        }
+    }
+
+    /// Pixel `p`'s column and row.
+    #[inline]
+    fn of(&mut self, p: usize) -> (usize, usize) {
+        if p < self.start || p >= self.start + self.width {
+            self.row = p / self.width;
+            self.start = self.row * self.width;
+        }
+        (p - self.start, self.row)
     }
 }
 
