@@ -11,8 +11,10 @@
 //! milliseconds of each, how many pixels the arrows cover, and how many differ between
 //! the two drawings and by how much. With `ONE_SPOT=1` every arrow starts at the same
 //! pixel, so that the pixels stay in the cache and only the arithmetic is timed; with
-//! `SAVE_TO=DIR` both drawings are written to DIR as raw RGBA (`scan.rgba`,
-//! `paths.rgba`).
+//! `SCALE=K` every arrow is K times as long (what an arrow costs whatever its length,
+//! against what its length costs); with `SKIP_PATHS=1` the paths are not drawn (to
+//! profile the scan converter alone); with `SAVE_TO=DIR` both drawings are written to
+//! DIR as raw RGBA (`scan.rgba`, `paths.rgba`).
 
 use std::path::Path;
 use std::time::Instant;
@@ -32,6 +34,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let clip = ClipRect::guard(w, h);
     let vel: Vec<DVec2> = scene.bodies.iter().map(|b| b.velocity).collect();
     let scales = ArrowScales::fit(&scene, &vel, &vec![DVec2::ZERO; vel.len()]);
+    // Every arrow's length times SCALE (1 unless set), to part what an arrow costs
+    // whatever its length from what it costs a pixel of length.
+    let scale: f64 = match std::env::var("SCALE") {
+        Ok(s) => s
+            .parse()
+            .map_err(|_| format!("SCALE={s} is not a number"))?,
+        Err(_) => 1.0,
+    };
     let arrows: Vec<((f64, f64), (f64, f64))> = scene
         .bodies
         .iter()
@@ -44,7 +54,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 at = (400.0 + at.0.fract(), 300.0 + at.1.fract());
             }
             let d = camera.to_pixel_vector_f64(scales.velocity * b.velocity);
-            (at, d)
+            (at, (scale * d.0, scale * d.1))
         })
         .collect();
     let colour = Color::from_rgba8(230, 90, 40, 255);
@@ -66,8 +76,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             draw_arrow(p, &clip, at, d, colour, 2.0);
         }
     })?;
+    // With SKIP_PATHS, tiny-skia's paths draw nothing: a profile of the scan converter
+    // alone (the comparison below is then meaningless).
+    let skip = std::env::var_os("SKIP_PATHS").is_some();
     let (paths, b) = time(&|p| {
-        for &(at, d) in &arrows {
+        for &(at, d) in arrows.iter().filter(|_| !skip) {
             draw_arrow_path(p, &clip, at, d, colour, 2.0);
         }
     })?;

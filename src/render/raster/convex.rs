@@ -76,7 +76,9 @@ fn blend_convex(pixmap: &mut Pixmap, chains: &mut Chains, ink: Ink) {
     }
     #[cfg(target_arch = "x86_64")]
     if width <= super::avx2::MAX_WIDTH && super::avx2::available() {
-        blend_holed(data, width, height, chains, ink);
+        // SAFETY: the processor has AVX2, just checked, and the image is at most
+        // MAX_WIDTH wide.
+        unsafe { super::avx2::blend_holed(data, width, height, chains, ink) };
         return;
     }
     scan_convex(width, height, chains, |i, c| {
@@ -93,8 +95,22 @@ fn blend_convex(pixmap: &mut Pixmap, chains: &mut Chains, ink: Ink) {
 /// polygon without a hole: each pixel takes coverage from one side only, as here.
 /// The other rows go pixel by pixel. (A ring's rows went pixel by pixel, a fifth of
 /// the frame's time for boxes each at an angle of its own, `sizes-1000`.)
+///
+/// It is compiled inside `avx2::blend_holed`, so that each side's blend is inlined
+/// into the loop rather than called row by row.
+///
+/// # Safety
+/// The processor must have AVX2, and the image must be at most
+/// [`super::avx2::MAX_WIDTH`] wide.
 #[cfg(target_arch = "x86_64")]
-fn blend_holed(data: &mut [u8], width: usize, height: usize, chains: &mut Chains, ink: Ink) {
+#[inline(always)]
+pub(super) unsafe fn blend_holed(
+    data: &mut [u8],
+    width: usize,
+    height: usize,
+    chains: &mut Chains,
+    ink: Ink,
+) {
     let (first, end) = chains.rows_within(height);
     let mut sy = first;
     while sy < end {
@@ -112,8 +128,9 @@ fn blend_holed(data: &mut [u8], width: usize, height: usize, chains: &mut Chains
             let (left, right) = (side(0), side(1));
             if left.3 <= right.2 {
                 for (a, b, lo, hi) in [left, right] {
-                    // SAFETY: the processor has AVX2 (checked by the caller), the
-                    // image is at most MAX_WIDTH wide, and a..b are columns of it.
+                    // SAFETY: the processor has AVX2 and the image is at most
+                    // MAX_WIDTH wide (the caller's promise), and a..b are columns of
+                    // it.
                     unsafe {
                         super::avx2::blend_spans(data, width, row.py, (a, b), (lo, hi), &ink)
                     };
