@@ -45,6 +45,12 @@ impl ImageClip {
         }
     }
 
+    /// Whether the path is filled uncut: every line of it is itself.
+    #[inline]
+    pub(super) fn contained(&self) -> bool {
+        self.contained
+    }
+
     /// Calls `push` with each line that the line p0 → p1 of the path becomes: itself
     /// when the path is not cut, otherwise none, one, two or three lines, in the
     /// line's direction, as tiny-skia's line clipper cuts it to the image.

@@ -285,6 +285,18 @@ impl Chains {
             if points.len() < 3 {
                 continue;
             }
+            if clip.contained() {
+                // Nothing to cut: each point taken into fixed point once.
+                let mut previous = Edge::fixed(points[points.len() - 1]);
+                for &p in points {
+                    let p = Edge::fixed(p);
+                    if let Some(e) = Edge::from_fixed(previous, p) {
+                        self.chains[2 * k + usize::from(e.winding < 0)].push(e);
+                    }
+                    previous = p;
+                }
+                continue;
+            }
             let mut previous = points[points.len() - 1];
             for &p in points {
                 clip.cut(previous, p, |a, b| {

@@ -71,9 +71,21 @@ impl Edge {
     /// Builds the edge from `p0` to `p1` as tiny-skia's `LineEdge::new` does with
     /// `shift = 2`, or `None` when it spans no sub-row's centre.
     fn new(p0: Point, p1: Point) -> Option<Edge> {
-        // Points in 26.6 fixed point of sub-pixels: 256 units a pixel, truncated.
+        Edge::from_fixed(Edge::fixed(p0), Edge::fixed(p1))
+    }
+
+    /// A point in 26.6 fixed point of sub-pixels: 256 units a pixel, truncated.
+    #[inline(always)]
+    fn fixed(p: Point) -> (i64, i64) {
         let fdot6 = |v: f32| i64::from((v * 256.0) as i32);
-        let (mut x0, mut y0, mut x1, mut y1) = (fdot6(p0.0), fdot6(p0.1), fdot6(p1.0), fdot6(p1.1));
+        (fdot6(p.0), fdot6(p.1))
+    }
+
+    /// [`Edge::new`] from its ends already in fixed point ([`Edge::fixed`]), so that a
+    /// polygon's points are converted once each, not once for each of their edges.
+    #[inline]
+    fn from_fixed((x0, y0): (i64, i64), (x1, y1): (i64, i64)) -> Option<Edge> {
+        let (mut x0, mut y0, mut x1, mut y1) = (x0, y0, x1, y1);
         let mut winding = 1;
         if y0 > y1 {
             std::mem::swap(&mut x0, &mut x1);
