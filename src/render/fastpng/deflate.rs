@@ -72,7 +72,7 @@ impl<'c> Deflate<'c> {
     /// must hold eight bytes past them. A long range is copied a word at a time once
     /// the output is on a byte (see [`Deflate::put_bytes_shifted`]); what is left, 56
     /// bits at a time from unaligned 64-bit reads.
-    #[inline]
+    #[inline(always)]
     pub(super) fn put_bit_range(&mut self, bytes: &[u8], from: usize, to: usize) {
         let word_at = |bit: usize| {
             let at = bit / 8;

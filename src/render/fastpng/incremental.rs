@@ -192,15 +192,23 @@ impl FrameCoder {
                         // Each copied tile's bits move by the same amount, and its
                         // sums by the difference between the sums before the span.
                         let at = w.bit_position() as u32;
-                        // Extended from a slice, so that room is made once, not checked
-                        // item by item (the check was most of copying a clean span).
-                        self.next_items.extend(old[i..j].iter().map(|it| Item {
-                            start: it.start - before.start + at,
-                            end: it.end - before.start + at,
-                            sum: it.sum - before.sum + sum,
-                            weighted: it.weighted - before.weighted + weighted,
-                            ..*it
-                        }));
+                        // Copied as they are in one piece and then moved in place: room
+                        // is made once, not checked item by item (the check was most of
+                        // copying a clean span), and the copy is a `memcpy`, not an
+                        // iterator's fold (a clean row 0.31 -> 0.27 ms, `trail_probe`).
+                        let first_new = self.next_items.len();
+                        self.next_items.extend_from_slice(&old[i..j]);
+                        let shift = at.wrapping_sub(before.start);
+                        let (ds, dw) = (
+                            sum.wrapping_sub(before.sum),
+                            weighted.wrapping_sub(before.weighted),
+                        );
+                        for it in &mut self.next_items[first_new..] {
+                            it.start = it.start.wrapping_add(shift);
+                            it.end = it.end.wrapping_add(shift);
+                            it.sum = it.sum.wrapping_add(ds);
+                            it.weighted = it.weighted.wrapping_add(dw);
+                        }
                         w.put_bit_range(stream, before.start as usize, old[j - 1].end as usize);
                         w.run = q - old[j - 1].to as usize;
                     } else {
