@@ -86,64 +86,6 @@ fn blend_convex(pixmap: &mut Pixmap, chains: &mut Chains, ink: Ink) {
     });
 }
 
-/// Blends `ink` with the coverage of a convex polygon less a convex hole: the bytes of
-/// [`scan_convex`], a ring's rows with AVX2. Where every sub-row of a pixel row has
-/// two spans, one each side of the hole, and the pixels the left ones touch all lie
-/// left of those the right ones touch (every row of a ring but its top and bottom,
-/// and where the hole is less than a pixel wide), the row is two rows of one span a
-/// sub-row, which `avx2.rs` covers and blends eight pixels at a time as it does a
-/// polygon without a hole: each pixel takes coverage from one side only, as here.
-/// The other rows go pixel by pixel. (A ring's rows went pixel by pixel, a fifth of
-/// the frame's time for boxes each at an angle of its own, `sizes-1000`.)
-///
-/// It is compiled inside `avx2::blend_holed`, so that each side's blend is inlined
-/// into the loop rather than called row by row.
-///
-/// # Safety
-/// The processor must have AVX2, and the image must be at most
-/// [`super::avx2::MAX_WIDTH`] wide.
-#[cfg(target_arch = "x86_64")]
-#[inline(always)]
-pub(super) unsafe fn blend_holed(
-    data: &mut [u8],
-    width: usize,
-    height: usize,
-    chains: &mut Chains,
-    ink: Ink,
-) {
-    let (first, end) = chains.rows_within(height);
-    let mut sy = first;
-    while sy < end {
-        let Some(row) = holed_row(chains, &mut sy, end, width) else {
-            continue;
-        };
-        if row.n == 8 {
-            let side = |first: usize| {
-                let a: [i64; 4] = std::array::from_fn(|k| row.spans[2 * k + first].0);
-                let b: [i64; 4] = std::array::from_fn(|k| row.spans[2 * k + first].1);
-                let lo = a.iter().map(|a| a >> 2).min().unwrap_or(0);
-                let hi = b.iter().map(|b| (b + 3) >> 2).max().unwrap_or(0);
-                (a, b, lo, hi.min(width as i64))
-            };
-            let (left, right) = (side(0), side(1));
-            if left.3 <= right.2 {
-                for (a, b, lo, hi) in [left, right] {
-                    // SAFETY: the processor has AVX2 and the image is at most
-                    // MAX_WIDTH wide (the caller's promise), and a..b are columns of
-                    // it.
-                    unsafe {
-                        super::avx2::blend_spans(data, width, row.py, (a, b), (lo, hi), &ink)
-                    };
-                }
-                continue;
-            }
-        }
-        put_row(&row, width, &mut |i, c| {
-            ink.blend(&mut data[4 * i..4 * i + 4], c);
-        });
-    }
-}
-
 /// Blends `ink` into the pixels `data` of an image `width` × `height` with the
 /// coverage of a convex polygon without a hole: the bytes of [`scan_convex`]. Each
 /// pixel row's (at most four) spans are covered and blended eight pixels at a time
@@ -444,10 +386,10 @@ fn scan_convex(width: usize, height: usize, chains: &mut Chains, mut put: impl F
 /// columns a..b with each sub-row's full weight (at most two a sub-row, in sub-row
 /// order and left to right within one), and the pixels every sub-row covers whole
 /// (empty when core_lo >= core_hi, or when not every sub-row has one span).
-struct HoledRow {
-    py: usize,
-    spans: [Span; 8],
-    n: usize,
+pub(super) struct HoledRow {
+    pub(super) py: usize,
+    pub(super) spans: [Span; 8],
+    pub(super) n: usize,
     core_lo: i64,
     core_hi: i64,
     holed: bool,
@@ -456,7 +398,12 @@ struct HoledRow {
 /// The spans of the pixel row holding sub-row `*sy`, from there to the row's end or
 /// `end`, whichever is first, and moves `*sy` past them; `None` when they are empty.
 #[inline(always)]
-fn holed_row(chains: &mut Chains, sy: &mut i64, end: i64, width: usize) -> Option<HoledRow> {
+pub(super) fn holed_row(
+    chains: &mut Chains,
+    sy: &mut i64,
+    end: i64,
+    width: usize,
+) -> Option<HoledRow> {
     let max_column = 4 * width as i64;
     let holed = !chains.chains[2].is_empty();
     let column = |v: i64| ((v + 0x8000) >> 16).clamp(0, max_column);
@@ -545,7 +492,7 @@ fn holed_row(chains: &mut Chains, sy: &mut i64, end: i64, width: usize) -> Optio
 
 /// Hands a pixel row's coverage to `put` pixel by pixel, as [`scan_convex`] does.
 #[inline(always)]
-fn put_row(row: &HoledRow, width: usize, put: &mut impl FnMut(usize, u8)) {
+pub(super) fn put_row(row: &HoledRow, width: usize, put: &mut impl FnMut(usize, u8)) {
     let n = row.n;
     let (core_lo, core_hi) = (row.core_lo, row.core_hi);
     // The pixels the spans touch, as disjoint runs: a ring's row is two runs with the
