@@ -209,9 +209,7 @@ pub(super) unsafe fn blend_holed(
                     // SAFETY: the processor has AVX2 and the image is at most
                     // MAX_WIDTH wide (the caller's promise), and a..b are columns of
                     // it.
-                    unsafe {
-                        blend_spans(data, width, row.py, (a, b), (lo, hi), &ink)
-                    };
+                    unsafe { blend_spans(data, width, row.py, (a, b), (lo, hi), &ink) };
                 }
                 continue;
             }
