@@ -192,24 +192,32 @@ impl FrameCoder {
                         // Each copied tile's bits move by the same amount, and its
                         // sums by the difference between the sums before the span.
                         let at = w.bit_position() as u32;
-                        // Copied as they are in one piece and then moved in place: room
-                        // is made once, not checked item by item (the check was most of
-                        // copying a clean span), and the copy is a `memcpy`, not an
-                        // iterator's fold (a frame with no tile marked 0.31 -> 0.26 ms,
+                        // Written moved into the room made for them once: not checked
+                        // item by item (the check was most of copying a clean span), not
+                        // through an iterator's fold, which counted the length a record
+                        // at a time, nor copied by a call to `memcpy` and then moved
+                        // (a frame with no tile marked 0.31 ms through the fold, 0.26 by
+                        // `memcpy`, 0.24 so; with its marks 1.58, 1.55, 1.49 ms:
                         // `trail_probe`).
-                        let first_new = self.next_items.len();
-                        self.next_items.extend_from_slice(&old[i..j]);
                         let shift = at.wrapping_sub(before.start);
                         let (ds, dw) = (
                             sum.wrapping_sub(before.sum),
                             weighted.wrapping_sub(before.weighted),
                         );
-                        for it in &mut self.next_items[first_new..] {
-                            it.start = it.start.wrapping_add(shift);
-                            it.end = it.end.wrapping_add(shift);
-                            it.sum = it.sum.wrapping_add(ds);
-                            it.weighted = it.weighted.wrapping_add(dw);
+                        let n = self.next_items.len();
+                        self.next_items.reserve(j - i);
+                        let room = &mut self.next_items.spare_capacity_mut()[..j - i];
+                        for (to, it) in room.iter_mut().zip(&old[i..j]) {
+                            to.write(Item {
+                                start: it.start.wrapping_add(shift),
+                                end: it.end.wrapping_add(shift),
+                                sum: it.sum.wrapping_add(ds),
+                                weighted: it.weighted.wrapping_add(dw),
+                                ..*it
+                            });
                         }
+                        // SAFETY: the j - i records past the length were written above.
+                        unsafe { self.next_items.set_len(n + j - i) };
                         w.put_bit_range(stream, before.start as usize, old[j - 1].end as usize);
                         w.run = q - old[j - 1].to as usize;
                     } else {
