@@ -1,9 +1,13 @@
 //! Times the trails' segments alone: 1000 capsules 1.5 pixels wide, each from a random
-//! point a short random step, scan-converted with `raster::cover_convex` into a
-//! coverage and owner kept as `render/trails.rs` keeps them (best of 2000 frames).
+//! point a short random step, covered as `render/trails.rs` covers them
+//! (`raster::cover_capsule`, by the distance to the segment) into a coverage kept as
+//! the strongest (best of 2000 frames). With `POLYGONS=1`, each is the capsule's
+//! polygon scan-converted with `raster::cover_convex` instead, as trails were drawn
+//! until the eighteenth session of issue #16.
 //!
 //! ```sh
 //! cargo run --release --example capsule_probe
+//! POLYGONS=1 cargo run --release --example capsule_probe
 //! ```
 use std::time::Instant;
 
@@ -28,16 +32,22 @@ fn main() {
     let mut coverage = vec![0u8; (w * h) as usize];
     let mut outline = Vec::new();
     let mut best = f64::MAX;
+    let polygons = std::env::var_os("POLYGONS").is_some();
     for _ in 0..2000 {
         coverage.fill(0);
         let t = Instant::now();
         for &(a, b) in &segments {
-            raster::capsule(a, b, 0.75, &mut outline);
-            raster::cover_convex(w, h, &outline, |p, c| {
+            let keep = |p: usize, c: u8| {
                 if c > coverage[p] {
                     coverage[p] = c;
                 }
-            });
+            };
+            if polygons {
+                raster::capsule(a, b, 0.75, &mut outline);
+                raster::cover_convex(w, h, &outline, keep);
+            } else {
+                raster::cover_capsule((w, h), a, b, 0.75, keep);
+            }
         }
         best = best.min(t.elapsed().as_secs_f64());
     }

@@ -16,7 +16,15 @@
 //! it covers it at least as much. The pixel shown is the static layer's with that colour
 //! (the body's colour at 55% opacity) blended over it at coverage c, as tiny-skia blends
 //! a path. A segment is a line 1.5 pixels wide with round ends from one frame's
-//! position to the next, filled by [`raster`] (its round ends cut into chords).
+//! position to the next, each pixel covered by the distance d of its centre to the
+//! segment, c = clamp(1.25 − d, 0, 1) ([`raster::cover_capsule`]); since a pixel keeps
+//! its strongest segment, a trail of one colour is the stroke of its whole path by that
+//! ramp, as springs' coils are drawn: a straight stretch gets the exact area a row or
+//! a column crossed by it has inside it, and within a few hundredths of a pixel at
+//! other angles. Until the eighteenth session of issue #16 each segment was a polygon
+//! with chords for its round ends, filled by tiny-skia's sixteen samples a pixel: four
+//! times the producer's cost for pixels a few levels apart (measured in
+//! `tests/integration/every_scene.rs`).
 //!
 //! This is how trails look since issue #16: where a trail crosses itself or another,
 //! the pixel shows one trail, not the two blended over each other as when each trail
@@ -131,8 +139,6 @@ pub struct TrailLayer {
     held: Vec<u32>,
     /// How many frames of the history the layer holds.
     frames: usize,
-    /// The points of one segment's outline, reused.
-    outline: Vec<raster::Point>,
     /// The tiles where `base` changed since [`TrailLayer::take_changed`] last took them
     /// (every tile, for a new or restarted layer).
     changed: TileMask,
@@ -149,7 +155,6 @@ impl TrailLayer {
             base: static_layer.clone(),
             held: vec![0; n],
             frames: 0,
-            outline: Vec::new(),
             changed: TileMask::new(static_layer.width(), static_layer.height()),
             shared: None,
         }
@@ -233,7 +238,7 @@ impl TrailLayer {
                     (style, camera, clip, static_layer),
                     (width, height),
                     (before, positions),
-                    (&mut self.held, &mut self.outline),
+                    &mut self.held,
                     |p, rgba| {
                         base[4 * p..4 * p + 4].copy_from_slice(&rgba);
                         let (x, y) = rows.of(p);
@@ -297,7 +302,7 @@ fn rasterise_frame(
     (style, camera, clip, static_layer): Drawing<'_>,
     (width, height): (u32, u32),
     (before, positions): (&[DVec2], &[DVec2]),
-    (held, outline): (&mut [u32], &mut Vec<raster::Point>),
+    held: &mut [u32],
     mut put: impl FnMut(usize, [u8; 4]),
 ) {
     let layer = static_layer.data();
@@ -325,9 +330,8 @@ fn rasterise_frame(
         let Some((a, b)) = ends else {
             continue;
         };
-        raster::capsule(a, b, HALF_WIDTH, outline);
         let trail = style.inks[ink as usize];
-        raster::cover_convex(width, height, outline, |p, c| {
+        raster::cover_capsule((width, height), a, b, HALF_WIDTH, |p, c| {
             // The coverage held in the low byte, its colour above: a newer segment
             // takes the pixel when stronger, or as strong and of another colour.
             let now = held[p];
@@ -382,7 +386,6 @@ pub struct SharedTrails {
 #[derive(Default)]
 struct Raster {
     held: Vec<u32>,
-    outline: Vec<raster::Point>,
     /// How many frames of the history are rasterised.
     frames: usize,
     /// How many pixels the last frame changed: the next frame's first guess.
@@ -491,12 +494,12 @@ impl SharedTrails {
                 frame.checked_sub(1).and_then(|j| history.get(j)),
                 history.get(frame),
             ) {
-                let Raster { held, outline, .. } = &mut *r;
+                let held = &mut r.held;
                 rasterise_frame(
                     drawing,
                     (width, height),
                     (before, positions),
-                    (held, outline),
+                    held,
                     |p, rgba| changed.push((p as u32, rgba)),
                 );
             }

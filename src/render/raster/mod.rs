@@ -27,8 +27,9 @@
 //! with AVX2 where the processor has it, the same bytes), `shapes.rs`
 //! builds the polygons of strokes (a line's rectangle, a stroked outline's ring), and
 //! `clipper.rs` cuts a shape's edges to the image as tiny-skia does. `lines.rs` is the
-//! one approximation: thin round-joined polylines (springs' coils) covered by the
-//! distance of each pixel's centre to the line, not by tiny-skia's samples.
+//! one approximation: thin round-joined polylines (springs' coils, and trails a
+//! segment at a time) covered by the distance of each pixel's centre to the line, not
+//! by tiny-skia's samples.
 //!
 //! Coordinates must be near the image: callers clip them to the guard band first, where
 //! the fixed-point arithmetic cannot overflow (tiny-skia's limit is 8191 pixels).
@@ -50,7 +51,7 @@ use clipper::ImageClip;
 
 pub use convex::{cover_convex, fill_convex, fill_layers, fill_turned, fill_turned_apart};
 pub(crate) use eight::{prefetch, prefetch_around, AHEAD, PREFETCH_REACH};
-pub use lines::stroke_polyline;
+pub use lines::{cover_capsule, stroke_polyline};
 pub use shapes::{bar, capsule, disc, Ring, DISC_POLYGON_TOLERANCE};
 
 /// A point in pixels.
