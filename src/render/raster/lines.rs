@@ -118,42 +118,8 @@ pub fn cover_capsule(
     if !finite || half.is_nan() || half <= 0.0 {
         return;
     }
-    let reach = half + 0.5;
     let (w, h) = (i64::from(width), i64::from(height));
-    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-    let len = (dx * dx + dy * dy).sqrt();
-    let (ux, uy) = if len > 1e-12 {
-        (dx / len, dy / len)
-    } else {
-        (1.0, 0.0)
-    };
-    // The segment's box grown by the reach, within the image.
-    let (sx0, sx1) = (a.0.min(b.0) - reach, a.0.max(b.0) + reach);
-    let (sy0, sy1) = (a.1.min(b.1) - reach, a.1.max(b.1) + reach);
-    let rows = ceil(sy0 - 0.5).max(0)..(floor(sy1 - 0.5) + 1).min(h);
-    let (nx, ny) = (-uy, ux);
-    for y in rows {
-        let yc = y as f64 + 0.5;
-        let (mut lo, mut hi) = (sx0, sx1);
-        if nx.abs() > 1e-9 {
-            // nx·(x − ax) + ny·(yc − ay) = ±reach, as in `cover_segment`.
-            let mid = a.0 - ny * (yc - a.1) / nx;
-            let spread = reach / nx.abs();
-            (lo, hi) = (lo.max(mid - spread), hi.min(mid + spread));
-        }
-        let first = ceil(lo - 0.5).max(0);
-        let end = (floor(hi - 0.5) + 1).min(w);
-        if first >= end {
-            continue;
-        }
-        let seg = Segment {
-            ux: ux as f32,
-            uy: uy as f32,
-            len: len as f32,
-            reach: reach as f32,
-            px0: (first as f64 + 0.5 - a.0) as f32,
-            py: (yc - a.1) as f32,
-        };
+    segment_rows(a, b, half, (0, w), (0, h), |y, first, end, seg| {
         let row = y as usize * width as usize;
         let mut x = first;
         while x < end {
@@ -167,7 +133,7 @@ pub fn cover_capsule(
             }
             x += 4;
         }
-    }
+    });
 }
 
 /// Each thread's coverage buffer over a polyline's bounding box, all zeros between
@@ -195,6 +161,40 @@ fn cover_segment(
     b: (f64, f64),
     half: f64,
 ) {
+    let (cols, rows) = ((bx, bx + bw as i64), (by, by + bh as i64));
+    segment_rows(a, b, half, cols, rows, |y, first, end, seg| {
+        let span = &mut spans[(y - by) as usize];
+        *span = (
+            span.0.min((first - bx) as usize),
+            span.1.max((end - bx) as usize),
+        );
+        // The row's pixels four at a time. The buffer holds three bytes past the box,
+        // so that the last four may reach past the row; lanes past `end` are given no
+        // coverage, which leaves what they reach as it is.
+        let row = (y - by) as usize * bw;
+        let mut x = first;
+        while x < end {
+            let k = row + (x - bx) as usize;
+            let quad: &mut [u8; 4] = (&mut cover[k..k + 4]).try_into().expect("four bytes");
+            seg.cover4(quad, (x - first) as f32, (end - x).min(4) as usize);
+            x += 4;
+        }
+    });
+}
+
+/// Calls `row(y, first, end, seg)` for each pixel row y in rows.0..rows.1 whose pixel
+/// centres first..end (within columns cols.0..cols.1) may lie within `half` + 1/2 of
+/// the segment a → b, with `seg` the segment as that row sees it: its first pixel's
+/// centre and the row's centre relative to a, in f32 (p = (x + 1/2 − ax, y_c − ay)).
+#[inline(always)]
+fn segment_rows(
+    a: (f64, f64),
+    b: (f64, f64),
+    half: f64,
+    cols: (i64, i64),
+    rows: (i64, i64),
+    mut row: impl FnMut(i64, i64, i64, &Segment),
+) {
     let reach = half + 0.5;
     let (dx, dy) = (b.0 - a.0, b.1 - a.1);
     let len = (dx * dx + dy * dy).sqrt();
@@ -206,12 +206,11 @@ fn cover_segment(
     // The segment's box, grown by the reach.
     let (sx0, sx1) = (a.0.min(b.0) - reach, a.0.max(b.0) + reach);
     let (sy0, sy1) = (a.1.min(b.1) - reach, a.1.max(b.1) + reach);
-    let rows = ceil(sy0 - 0.5).max(by)..(floor(sy1 - 0.5) + 1).min(by + bh as i64);
     // The unit normal n = (-uy, ux): a centre within the reach of the segment is within
     // it of the line, |n·(p − a)| ≤ reach, which bounds each row's columns when the
     // line is not level.
     let (nx, ny) = (-uy, ux);
-    for y in rows {
+    for y in ceil(sy0 - 0.5).max(rows.0)..(floor(sy1 - 0.5) + 1).min(rows.1) {
         let yc = y as f64 + 0.5;
         let (mut lo, mut hi) = (sx0, sx1);
         if nx.abs() > 1e-9 {
@@ -220,20 +219,11 @@ fn cover_segment(
             let spread = reach / nx.abs();
             (lo, hi) = (lo.max(mid - spread), hi.min(mid + spread));
         }
-        let first = ceil(lo - 0.5).max(bx);
-        let end = (floor(hi - 0.5) + 1).min(bx + bw as i64);
+        let first = ceil(lo - 0.5).max(cols.0);
+        let end = (floor(hi - 0.5) + 1).min(cols.1);
         if first >= end {
             continue;
         }
-        let span = &mut spans[(y - by) as usize];
-        *span = (
-            span.0.min((first - bx) as usize),
-            span.1.max((end - bx) as usize),
-        );
-        // The row's pixels four at a time, in f32 relative to a: p = (x + 1/2 − ax,
-        // y_c − ay). The buffer holds three bytes past the box, so that the last four
-        // may reach past the row; lanes past `end` are given no coverage, which leaves
-        // what they reach as it is.
         let seg = Segment {
             ux: ux as f32,
             uy: uy as f32,
@@ -242,14 +232,7 @@ fn cover_segment(
             px0: (first as f64 + 0.5 - a.0) as f32,
             py: (yc - a.1) as f32,
         };
-        let row = (y - by) as usize * bw;
-        let mut x = first;
-        while x < end {
-            let k = row + (x - bx) as usize;
-            let quad: &mut [u8; 4] = (&mut cover[k..k + 4]).try_into().expect("four bytes");
-            seg.cover4(quad, (x - first) as f32, (end - x).min(4) as usize);
-            x += 4;
-        }
+        row(y, first, end, &seg);
     }
 }
 
