@@ -63,7 +63,7 @@ impl EnergyWatch {
     }
 }
 
-/// The `quantity` of a [`BlowUp`] raised by [`EnergyWatch`].
+/// The `quantity` of a [`BlowUp`] raised by `EnergyWatch`.
 pub const ENERGY: &str = "energy";
 
 /// Describes a blow-up for a person: which body, which step, and what to change.

@@ -139,7 +139,7 @@ impl SpriteSheet {
     }
 
     /// Marks in `mask` the tiles of the pixels that [`SpriteSheet::stamp`] at (x, y)
-    /// may change, row by row (see [`Sprite::mark_tiles`]).
+    /// may change, row by row (see `Sprite::mark_tiles`).
     pub fn mark_tiles(&self, mask: &mut TileMask, x: f32, y: f32) {
         let (ix, i) = snap(x);
         let (iy, j) = snap(y);

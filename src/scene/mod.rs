@@ -2,7 +2,7 @@
 //! rest of the program trusts.
 //!
 //! A scene file is read once. [`raw`] gives every value the byte span it came from;
-//! [`validate`] checks every rule and reports all problems with their file, line and
+//! `validate` checks every rule and reports all problems with their file, line and
 //! column; what passes is a [`Scene`] in which every number is finite and in range and
 //! every name resolves. Code downstream never re-checks the scene, and a scene that
 //! validates cannot make a step panic.

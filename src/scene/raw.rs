@@ -1,7 +1,7 @@
 //! The scene file's schema as serde reads it: every value keeps the byte span it came
 //! from, so that validation can point at the exact place in the file.
 //!
-//! These types accept anything TOML can say in the right shape; [`super::validate`]
+//! These types accept anything TOML can say in the right shape; `super::validate`
 //! decides what is meaningful. Unknown keys are rejected here, by serde.
 
 use serde::Deserialize;

@@ -32,7 +32,8 @@ pub struct Coords<'a> {
     pub pos: &'a [DVec2],
     /// Centre-of-mass velocities v.
     pub vel: &'a [DVec2],
-    /// Orientations θ; read only when the system spins (see [`System::spins`]).
+    /// Orientations θ; read only when the system spins (see
+    /// [`System::spins`](super::system::System::spins)).
     pub angle: &'a [f64],
     /// Angular velocities ω; read only when the system spins.
     pub omega: &'a [f64],

@@ -501,7 +501,7 @@ pub fn stability_chart(grid: &StabilityGrid, table: &StabilityTable) -> Result<P
 
 /// Returns where the growth factor g sits on the colour scale, from -1 (strongest
 /// decay) through 0 (neutral, white) to 1 (strongest growth): the sign of ln g times
-/// the position of log10|ln g| between [`LOG_FLOOR`] and [`LOG_CEIL`].
+/// the position of log10|ln g| between `LOG_FLOOR` and `LOG_CEIL`.
 pub fn colour_position(g: f64) -> f64 {
     if g.is_nan() {
         return 0.0;

@@ -126,7 +126,7 @@ pub enum LegendCorner {
 /// The names a layer's expressions read and the values of its constant slots.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Slots {
-    /// Slot names: horizontal, vertical, [t,] parameters (for traces: t, body values,
+    /// Slot names: horizontal, vertical, \[t,\] parameters (for traces: t, body values,
     /// parameters).
     pub names: Vec<String>,
     /// Initial slot values: zero for variables, the value for parameters.

@@ -318,7 +318,7 @@ impl Contacts {
 
     /// Returns whether a step can only hold every body where it is, without a look at
     /// the bodies' motion: sleeping is on, every one of the system's `bodies` collides,
-    /// and each is asleep or immovable ([`Contacts::all_held`]). Then
+    /// and each is asleep or immovable (`Contacts::all_held`). Then
     /// [`Contacts::resolve`] would hold the sleeping bodies after the integrator moved
     /// them and find nothing else to do, so the simulation may skip the integrator as
     /// well and call [`Contacts::hold_still`] instead, with the same bits.

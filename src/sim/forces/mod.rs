@@ -135,7 +135,7 @@ impl Selection {
 pub enum Masses<'a> {
     /// Every body has mass `m`; `inv` = 1/m.
     Uniform { m: f64, inv: f64 },
-    /// Body i has mass `m[i]`; `inv[i]` = 1/m[i].
+    /// Body i has mass `m[i]`; `inv[i]` = 1/`m[i]`.
     PerBody { m: &'a [f64], inv: &'a [f64] },
 }
 
