@@ -774,15 +774,15 @@ fn a_trail_drawn_segment_by_segment_looks_like_one_stroke_through_its_points() {
     let (x, y) = renderer.camera().to_pixel(last[0]);
     body.draw(&mut stroke, x, y);
     let (largest, count) = diff(&ours, &stroke);
-    let touched = diff(&stroke, &renderer.new_frame()).1;
+    let background = renderer.new_frame();
+    let touched = diff(&stroke, &background).1;
     eprintln!(
         "segments against one stroke: {count} of {touched} pixels differ, by {largest}/255 at most"
     );
     assert!(touched > 300, "the trail covers {touched} pixels");
     assert!(largest <= 24, "largest difference {largest}/255");
     // The ink each spreads: the darkening of every channel below the background,
-    // summed over the image, outside the body drawn over both.
-    let background = renderer.new_frame();
+    // summed over the image (the body, drawn over both alike, adds the same to each).
     let ink = |p: &tiny_skia::Pixmap| -> f64 {
         p.data()
             .iter()
