@@ -588,10 +588,20 @@ impl Renderer {
                 frame.pos.get(i + raster::AHEAD),
                 self.look_of.get(i + raster::AHEAD),
             ) {
-                let reach = self.looks[ahead as usize].body.reach() + 3.0;
+                let look = &self.looks[ahead as usize];
+                let reach = look.body.reach() + 3.0;
                 if reach <= raster::PREFETCH_REACH {
                     let (x, y) = self.camera.to_pixel(*q);
                     raster::prefetch_around(pixmap.data(), self.width, self.height, x, y, reach);
+                    // And a turning stamp's sprite, one of many.
+                    let angle = frame
+                        .angle
+                        .filter(|_| look.body.turns())
+                        .map(|a| a[i + raster::AHEAD])
+                        .or(look.fixed_angle);
+                    if let (Some(sheet), Some(theta)) = (&look.turning, angle) {
+                        sheet.prefetch(x, y, theta);
+                    }
                 }
             }
             if self.still.get(i) == Some(&true) {

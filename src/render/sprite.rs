@@ -310,6 +310,15 @@ impl Sprite {
         }
     }
 
+    /// Asks for the cache lines of the sprite's coverage and row spans.
+    pub(crate) fn prefetch(&self) {
+        // Coverage is two bytes a pixel: one request per 64-byte line.
+        for k in (0..self.coverage.len()).step_by(32) {
+            super::raster::prefetch(&self.coverage, k);
+        }
+        super::raster::prefetch(&self.spans, 0);
+    }
+
     /// Blends one layer only, the fill (0) or the outline (1), in `ink`, with the
     /// sprite's top-left pixel at (x, y).
     pub(crate) fn stamp_layer(&self, pixmap: &mut Pixmap, x: i64, y: i64, layer: usize, ink: Ink) {

@@ -154,6 +154,21 @@ impl TurningSheet {
         sprite.mark_tiles(mask, x0, y0);
     }
 
+    /// Asks for the cache lines of the sprite that [`TurningSheet::stamp`] at (x, y)
+    /// and `theta` reads, when its angle's sprites are made (nothing otherwise: making
+    /// them is the stamp's). A frame's bodies each take a sprite of their own angle,
+    /// spread over the bins' memory, and a stamp otherwise waits for its coverage.
+    pub fn prefetch(&self, x: f32, y: f32, theta: f64) {
+        let (_, i) = snap_to(x, TURN_PHASES);
+        let (_, j) = snap_to(y, TURN_PHASES);
+        let Some(sprites) = self.coverage.bins[self.coverage.bin(theta)].get() else {
+            return;
+        };
+        if let Some(sprite) = sprites.get((j * TURN_PHASES + i) as usize) {
+            sprite.prefetch();
+        }
+    }
+
     /// Stamps the look with its centre at pixel (x, y) turned by `theta`, both rounded
     /// as the module explains. Parts outside the pixmap are skipped.
     pub fn stamp(&self, pixmap: &mut Pixmap, x: f32, y: f32, theta: f64) {
