@@ -116,9 +116,27 @@ impl Sources<'_> {
 }
 
 impl SceneError {
-    /// Creates an error for `path`, sorting the diagnostics by position in the file.
-    pub fn new(path: &Path, text: &str, mut diagnostics: Vec<Diagnostic>) -> Self {
-        diagnostics.sort_by_key(|d| d.span.as_ref().map_or(0, |s| s.start));
+    /// Creates an error for `path`, sorting the diagnostics by position in the file. A
+    /// diagnostic about the whole file stays after every one reported before it (first,
+    /// when none was): a count of the problems left unlisted ("38 more pairs …") reads
+    /// after the ones it follows.
+    pub fn new(path: &Path, text: &str, diagnostics: Vec<Diagnostic>) -> Self {
+        let mut at = 0;
+        let mut keyed: Vec<(usize, Diagnostic)> = diagnostics
+            .into_iter()
+            .map(|d| {
+                if let Some(span) = &d.span {
+                    at = at.max(span.start);
+                }
+                // A located one sorts by its own place, a whole-file one after those
+                // before it.
+                let at = d.span.as_ref().map_or(at, |s| s.start);
+                (at, d)
+            })
+            .collect();
+        // A stable sort: a whole-file diagnostic stays after the one it follows.
+        keyed.sort_by_key(|(at, _)| *at);
+        let diagnostics = keyed.into_iter().map(|(_, d)| d).collect();
         SceneError {
             path: path.to_path_buf(),
             text: text.to_string(),

@@ -708,6 +708,13 @@ fn a_pile_of_static_bodies_is_checked_without_its_pairs() {
         "{err}"
     );
     assert!(err.contains("at least 19995 more pairs"), "{err}");
+    // The count of the pairs left unlisted comes after the five it follows, though it
+    // points at no line of the file (which would sort it first).
+    let (listed, more) = (
+        err.rfind("overlap by").expect("the pairs listed"),
+        err.find("more pairs").expect("the count"),
+    );
+    assert!(listed < more, "the count after the pairs listed: {err}");
 }
 
 #[test]
