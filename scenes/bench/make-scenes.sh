@@ -40,7 +40,7 @@ FOOT
 }
 
 # bodies COUNT SEED KIND [RADIUS]: COUNT [[body]] tables; KIND is circles, arrows, mixed,
-# sizes, crates, dumbbells, spinning-dumbbells or turning; circles and arrows have RADIUS (0.06 unless given).
+# sizes, crates, dumbbells, spinning-dumbbells, turning or turning-sizes; circles and arrows have RADIUS (0.06 unless given).
 bodies() {
     awk -v n="$1" -v seed="$2" -v kind="$3" -v radius="${4:-0.06}" '
     function rnd() { x = (x * 16807) % 2147483647; return x / 2147483647 }
@@ -98,6 +98,12 @@ bodies() {
             } else if (kind == "turning") {
                 printf "angle = %.4f\nangular_velocity = %.4f\n", uniform(-3.1416, 3.1416), uniform(-2.0, 2.0)
                 print "shape = { box = { width = 0.16, height = 0.08 } }"
+            } else if (kind == "turning-sizes") {
+                # The turning boxes of turning-boxes-1000, each of its own width and
+                # height (as when a user scatters crates of many sizes): none shares a
+                # geometry, so none is stamped.
+                printf "angle = %.4f\nangular_velocity = %.4f\n", uniform(-3.1416, 3.1416), uniform(-2.0, 2.0)
+                printf "shape = { box = { width = %.4f, height = %.4f } }\n", uniform(0.1, 0.22), uniform(0.06, 0.12)
             }
         }
     }'
@@ -163,6 +169,12 @@ bodies() {
     bodies 1000 23 turning
     footer
 } >turning-boxes-1000.toml
+
+{
+    header turning-sizes-1000 "1000 boxes in the default colours, each of its own width and height, turning at its own rate from its own angle." 10.0
+    bodies 1000 53 turning-sizes
+    footer
+} >turning-sizes-1000.toml
 
 # springs COUNT: COUNT springs shown as coils, each joining unnamed body 2k to body 2k + 1
 # (named body0, body1, ... by their order): scattered at random, so the coils start
