@@ -7,6 +7,7 @@ use glam::DVec2;
 use tiny_skia::{Color, FillRule, LineCap, Paint, PathBuilder, Pixmap, Stroke, Transform};
 
 use super::clip::ClipRect;
+use super::damage::TileMask;
 use super::raster;
 use super::sprite::Ink;
 use crate::scene::Scene;
@@ -117,6 +118,39 @@ pub fn draw_arrow(
     }
     if let Some(head) = arrow.head {
         raster::fill_convex(pixmap, &head, ink);
+    }
+}
+
+/// Marks in `mask` the tiles of every pixel that [`draw_arrow`] (or
+/// [`draw_arrow_path`]) with the same arguments may change, row by row: the pixels
+/// near its shaft, within its half-width of the line from `at` to the head's base, and
+/// those near its head, within half the head's width of the line from the base to the
+/// tip, each grown as [`raster::capsule_spans`] grows them. A frame with trails then
+/// compresses afresh only those tiles, not the whole frame.
+pub fn mark_arrow(mask: &mut TileMask, at: (f64, f64), d: (f64, f64), width: f32) {
+    let (dx, dy) = d;
+    let len = (dx * dx + dy * dy).sqrt();
+    // Nothing is drawn, as ArrowGeometry::new says.
+    if len < 0.5 || !len.is_finite() || !at.0.is_finite() || !at.1.is_finite() {
+        return;
+    }
+    let (ux, uy) = (dx / len, dy / len);
+    let head = (4.0 * f64::from(width) + 4.0).min(0.5 * len);
+    let tip = (at.0 + dx, at.1 + dy);
+    let base = (tip.0 - ux * head, tip.1 - uy * head);
+    // A stroke wider than a pixel is a rectangle half its width about the line.
+    // tiny-skia draws narrower ones as anti-aliased hairlines, which stray further: a
+    // pixel whose centre lies 2.1 pixels from the line was drawn (an arrow from inside
+    // the image to far outside it, in the test of this function), so they are taken
+    // as two pixels wide each side. (Bodies' arrows are 2 pixels wide.)
+    let shaft = if width > 1.0 {
+        0.5 * f64::from(width)
+    } else {
+        2.0
+    };
+    let size = mask.size();
+    for (a, b, half) in [(at, base, shaft), (base, tip, 0.5 * head)] {
+        raster::capsule_spans(size, a, b, half, |y, x0, x1| mask.mark_span(x0, x1, y));
     }
 }
 

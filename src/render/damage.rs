@@ -277,6 +277,19 @@ impl TileMask {
         }
     }
 
+    /// How many tiles the frame has.
+    pub fn tiles(&self) -> usize {
+        self.height as usize * self.width.div_ceil(TILE_PIXELS) as usize
+    }
+
+    /// How many tiles are marked (all of them when the mask is whole).
+    pub fn count(&self) -> usize {
+        if self.whole {
+            return self.tiles();
+        }
+        self.bits.iter().map(|b| b.count_ones() as usize).sum()
+    }
+
     /// Marks every tile `other` marks (a mask of the same size).
     pub fn add_mask(&mut self, other: &TileMask) {
         self.whole |= other.whole;

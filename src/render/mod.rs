@@ -44,7 +44,7 @@ pub use encode::{encode_png, encode_png_into, Compression, Provenance};
 use crate::history::PointHistory;
 use crate::scene::Scene;
 pub use arrows::ArrowScales;
-use arrows::{draw_arrow, draw_arrow_path};
+use arrows::{draw_arrow, draw_arrow_path, mark_arrow};
 use clip::ClipRect;
 use damage::{copy_rect, copy_tiles, TileMask};
 use looks::Look;
@@ -126,6 +126,9 @@ pub struct Renderer {
 }
 
 pub use looks::SPRITE_MIN_BODIES;
+
+/// The width in pixels of the bodies' velocity and force arrows.
+const ARROW_WIDTH: f32 = 2.0;
 
 /// Pixels added to a body's reach for the rectangle it damages: the outline's
 /// half-width and anti-aliasing take at most 3 (a sprite pads by as much), and one more
@@ -431,9 +434,11 @@ impl Renderer {
     /// The worker's trail layer gains the segments since its last frame and marks the
     /// tiles they changed; the pixmap is brought to the layer by copying those tiles and
     /// the last frame's bodies' rectangles from it, and the bodies are drawn over it,
-    /// their rectangles kept for the next frame, and so is the HUD's box. A frame that
-    /// draws more over the trails (arrows, springs, a legend, layers that change in
-    /// time, a plot's margins) marks every tile.
+    /// their rectangles kept for the next frame, and so is the HUD's box. Arrows mark
+    /// the tiles of the pixels they may change, row by row ([`arrows::mark_arrow`]),
+    /// unless the marks cover more than a third of the frame. A frame that draws more
+    /// over the trails (springs, a legend, layers that change in time, a plot's
+    /// margins) marks every tile.
     pub fn draw_trail_frame(
         &self,
         frame: &FrameView<'_>,
@@ -477,7 +482,7 @@ impl Renderer {
         } else {
             copy_tiles(pixmap, layer.base(), &state.changed);
         }
-        if self.bodies_and_hud_only(frame) && self.overlay.body_area().is_none() {
+        if self.bodies_arrows_and_hud_only(frame) && self.overlay.body_area().is_none() {
             state.bodies.clear();
             state.body_tiles.clear();
             self.draw_bodies(
@@ -486,11 +491,20 @@ impl Renderer {
                 Some(&mut state.bodies),
                 Some(&mut state.body_tiles),
             );
+            // Arrows over the trails mark their tiles row by row, as stamps do.
+            self.draw_arrows(frame, pixmap, Some(&mut state.body_tiles));
             if let Some(r) = self.overlay.draw_hud(pixmap, frame) {
                 state.bodies.add_rect(r, self.width, self.height);
             }
             state.changed.add_damage(&state.bodies);
             state.changed.add_mask(&state.body_tiles);
+            // Long arrows on many bodies mark much of the frame; past a third of its
+            // tiles, compressing every row whole costs less than the tiles'
+            // bookkeeping (docs/performance.md, arrows over trails).
+            let marked = state.changed.count();
+            if !self.arrow_bodies.is_empty() && 3 * marked > state.changed.tiles() {
+                state.changed.set_whole();
+            }
         } else {
             self.draw_moving(frame, pixmap);
             state.bodies.set_whole();
@@ -502,9 +516,15 @@ impl Renderer {
     /// but bodies and, perhaps, the HUD, whose extents the damage holds: no springs,
     /// arrows, comparison runs, legend or layer that changes in time.
     fn bodies_and_hud_only(&self, frame: &FrameView<'_>) -> bool {
+        self.arrow_bodies.is_empty() && self.bodies_arrows_and_hud_only(frame)
+    }
+
+    /// Returns true when a frame draws nothing over the static layer and the trails
+    /// but bodies, their arrows and, perhaps, the HUD: what a trail frame can mark tile
+    /// by tile.
+    fn bodies_arrows_and_hud_only(&self, frame: &FrameView<'_>) -> bool {
         self.springs.is_none()
             && frame.compare.is_none()
-            && self.arrow_bodies.is_empty()
             && (!self.overlay.draws_over_frames() || self.overlay.draws_only_the_hud())
     }
 
@@ -538,23 +558,7 @@ impl Renderer {
             );
         }
         self.draw_bodies(frame, pixmap, None, None);
-        for &i in &self.arrow_bodies {
-            let i = i as usize;
-            let look = &self.looks[self.look_of[i] as usize].body;
-            let at = self.camera.to_pixel_f64(frame.pos[i]);
-            if look.show_velocity {
-                let d = self
-                    .camera
-                    .to_pixel_vector_f64(self.arrows.velocity * frame.vel[i]);
-                self.arrow(pixmap, at, d, velocity_color());
-            }
-            if let (true, Some(force)) = (look.show_force, frame.force) {
-                let d = self
-                    .camera
-                    .to_pixel_vector_f64(self.arrows.force * force[i]);
-                self.arrow(pixmap, at, d, force_color());
-            }
-        }
+        self.draw_arrows(frame, pixmap, None);
         self.overlay.draw_frame(pixmap, &self.static_layer, frame);
         if let Some(compare) = frame.compare {
             let rings = (self.drawing == BodyDrawing::Sprites).then_some(&self.ghost_rings);
@@ -562,11 +566,44 @@ impl Renderer {
         }
     }
 
+    /// Draws the velocity and force arrows of the bodies that show them, marking in
+    /// `tiles`, when given, the tiles of the pixels each may change.
+    fn draw_arrows(
+        &self,
+        frame: &FrameView<'_>,
+        pixmap: &mut Pixmap,
+        mut tiles: Option<&mut TileMask>,
+    ) {
+        for &i in &self.arrow_bodies {
+            let i = i as usize;
+            let look = &self.looks[self.look_of[i] as usize].body;
+            let at = self.camera.to_pixel_f64(frame.pos[i]);
+            let mut arrow = |d: (f64, f64), c: Color| {
+                if let Some(tiles) = tiles.as_deref_mut() {
+                    mark_arrow(tiles, at, d, ARROW_WIDTH);
+                }
+                self.arrow(pixmap, at, d, c);
+            };
+            if look.show_velocity {
+                let d = self
+                    .camera
+                    .to_pixel_vector_f64(self.arrows.velocity * frame.vel[i]);
+                arrow(d, velocity_color());
+            }
+            if let (true, Some(force)) = (look.show_force, frame.force) {
+                let d = self
+                    .camera
+                    .to_pixel_vector_f64(self.arrows.force * force[i]);
+                arrow(d, force_color());
+            }
+        }
+    }
+
     /// Draws a body's arrow from pixel `at` along the pixel vector `d`, 2 pixels wide.
     fn arrow(&self, pixmap: &mut Pixmap, at: (f64, f64), d: (f64, f64), c: Color) {
         match self.drawing {
-            BodyDrawing::Sprites => draw_arrow(pixmap, &self.clip, at, d, c, 2.0),
-            BodyDrawing::Paths => draw_arrow_path(pixmap, &self.clip, at, d, c, 2.0),
+            BodyDrawing::Sprites => draw_arrow(pixmap, &self.clip, at, d, c, ARROW_WIDTH),
+            BodyDrawing::Paths => draw_arrow_path(pixmap, &self.clip, at, d, c, ARROW_WIDTH),
         }
     }
 

@@ -60,6 +60,81 @@ fn arrows_from_the_scan_converter_are_tiny_skias_arrows() {
     assert_eq!((largest, count), (0, 0), "arrows across the edge");
 }
 
+#[test]
+fn an_arrows_marked_tiles_hold_every_pixel_it_draws() {
+    // Arrows of every direction and length, from under a pixel to past the image,
+    // 2 pixels wide as bodies' arrows are and 1 and 3, drawn alone over a background:
+    // each pixel that changed lies in a tile `mark_arrow` marked, with the scan
+    // converter and with tiny-skia's paths.
+    use physframes::render::bodies::mark_arrow;
+    use physframes::render::damage::TileMask;
+    let (w, h) = (160u32, 120u32);
+    let clip = ClipRect::guard(w, h);
+    let mut background = Pixmap::new(w, h).expect("pixmap");
+    background.fill(Color::from_rgba8(250, 248, 240, 255));
+    let mut marked = 0;
+    for k in 0..600u32 {
+        let a = f64::from(k) * 2.399_963;
+        let len = 0.3 + f64::from(k % 41) * f64::from(k % 7 + 1) * 0.9;
+        let at = (
+            -10.0 + f64::from(k % 17) * 10.9 + 0.37,
+            -8.0 + f64::from(k % 13) * 10.7 + 0.61,
+        );
+        let d = (len * a.cos(), len * a.sin());
+        let width = [2.0, 1.0, 3.0][(k % 3) as usize];
+        let c = Color::from_rgba8(0x1f, 0x4e, 0x9c, 0xff);
+        let mut mask = TileMask::new(w, h);
+        mask.clear();
+        mark_arrow(&mut mask, at, d, width);
+        for path in [false, true] {
+            let mut ours = background.clone();
+            if path {
+                draw_arrow_path(&mut ours, &clip, at, d, c, width);
+            } else {
+                draw_arrow(&mut ours, &clip, at, d, c, width);
+            }
+            for y in 0..h as usize {
+                for x in 0..w as usize {
+                    let p = 4 * (y * w as usize + x);
+                    let inside = mask.row(y)[x / 8 / 64] >> (x / 8 % 64) & 1 == 1;
+                    let changed = ours.data()[p..p + 4] != background.data()[p..p + 4];
+                    assert!(
+                        inside || !changed,
+                        "arrow {k} from {at:?} along {d:?}, {width} wide (paths: {path}): pixel ({x}, {y}) unmarked"
+                    );
+                    marked += usize::from(changed);
+                }
+            }
+        }
+    }
+    assert!(marked > 50_000, "the arrows drew {marked} pixels");
+    // The arrows of a run that is blowing up (the blow-up test renders one): lengths
+    // and places far past any image, finite or not, mark what they may draw and do
+    // not panic.
+    let far = [1e300, -1e300, 1e18, f64::MAX, f64::INFINITY, f64::NAN, 40.0];
+    for &u in &far {
+        for &v in &far {
+            let mut mask = TileMask::new(w, h);
+            mask.clear();
+            mark_arrow(&mut mask, (40.0, 30.0), (u, v), 2.0);
+            mark_arrow(&mut mask, (u, v), (-u, 3.0), 2.0);
+            let mut ours = background.clone();
+            draw_arrow(&mut ours, &clip, (40.0, 30.0), (u, v), Color::BLACK, 2.0);
+            draw_arrow(&mut ours, &clip, (u, v), (-u, 3.0), Color::BLACK, 2.0);
+            for y in 0..h as usize {
+                for x in 0..w as usize {
+                    let p = 4 * (y * w as usize + x);
+                    let inside = mask.row(y)[x / 8 / 64] >> (x / 8 % 64) & 1 == 1;
+                    assert!(
+                        inside || ours.data()[p..p + 4] == background.data()[p..p + 4],
+                        "arrow along ({u}, {v}): pixel ({x}, {y}) unmarked"
+                    );
+                }
+            }
+        }
+    }
+}
+
 /// Draws a turning look both ways at many angles and sub-pixel positions over a light
 /// background, and returns the largest channel difference, how many pixels differ, and
 /// how many pixels the look covers.

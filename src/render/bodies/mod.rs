@@ -8,7 +8,7 @@ use tiny_skia::{
 
 mod orientation;
 
-pub use super::arrows::{draw_arrow, draw_arrow_path};
+pub use super::arrows::{draw_arrow, draw_arrow_path, mark_arrow};
 use super::camera::Camera;
 use super::raster;
 use super::sprite::{Ink, MAX_SPRITE_REACH};

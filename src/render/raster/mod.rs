@@ -51,6 +51,7 @@ use clipper::ImageClip;
 
 pub use convex::{cover_convex, fill_convex, fill_layers, fill_turned, fill_turned_apart};
 pub(crate) use eight::{prefetch, prefetch_around, AHEAD, PREFETCH_REACH};
+pub(crate) use lines::capsule_spans;
 pub use lines::{cover_capsule, stroke_polyline};
 pub use shapes::{bar, capsule, disc, Ring, DISC_POLYGON_TOLERANCE};
 
