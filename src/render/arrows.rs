@@ -125,7 +125,7 @@ pub fn draw_arrow(
 /// [`draw_arrow_path`]) with the same arguments may change, row by row: the pixels
 /// near its shaft, within its half-width of the line from `at` to the head's base, and
 /// those near its head, within half the head's width of the line from the base to the
-/// tip, each grown as [`raster::capsule_spans`] grows them. A frame with trails then
+/// tip, each grown as `raster::capsule_spans` grows them. A frame with trails then
 /// compresses afresh only those tiles, not the whole frame.
 pub fn mark_arrow(mask: &mut TileMask, at: (f64, f64), d: (f64, f64), width: f32) {
     let (dx, dy) = d;
