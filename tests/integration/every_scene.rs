@@ -9,7 +9,7 @@ use physframes::render::bodies::{draw_arrow, draw_arrow_path};
 use physframes::render::clip::ClipRect;
 use tiny_skia::{Color, Pixmap};
 
-use crate::util::diff;
+use crate::util::{change_outside, diff, diff_beyond};
 
 #[test]
 fn arrows_from_the_scan_converter_are_tiny_skias_arrows() {
@@ -93,18 +93,12 @@ fn an_arrows_marked_tiles_hold_every_pixel_it_draws() {
             } else {
                 draw_arrow(&mut ours, &clip, at, d, c, width);
             }
-            for y in 0..h as usize {
-                for x in 0..w as usize {
-                    let p = 4 * (y * w as usize + x);
-                    let inside = mask.row(y)[x / 8 / 64] >> (x / 8 % 64) & 1 == 1;
-                    let changed = ours.data()[p..p + 4] != background.data()[p..p + 4];
-                    assert!(
-                        inside || !changed,
-                        "arrow {k} from {at:?} along {d:?}, {width} wide (paths: {path}): pixel ({x}, {y}) unmarked"
-                    );
-                    marked += usize::from(changed);
-                }
-            }
+            let unmarked = change_outside(&mask, &ours, &background);
+            assert!(
+                unmarked.is_none(),
+                "arrow {k} from {at:?} along {d:?}, {width} wide (paths: {path}): pixel {unmarked:?} unmarked"
+            );
+            marked += diff(&ours, &background).1;
         }
     }
     assert!(marked > 50_000, "the arrows drew {marked} pixels");
@@ -121,16 +115,11 @@ fn an_arrows_marked_tiles_hold_every_pixel_it_draws() {
             let mut ours = background.clone();
             draw_arrow(&mut ours, &clip, (40.0, 30.0), (u, v), Color::BLACK, 2.0);
             draw_arrow(&mut ours, &clip, (u, v), (-u, 3.0), Color::BLACK, 2.0);
-            for y in 0..h as usize {
-                for x in 0..w as usize {
-                    let p = 4 * (y * w as usize + x);
-                    let inside = mask.row(y)[x / 8 / 64] >> (x / 8 % 64) & 1 == 1;
-                    assert!(
-                        inside || ours.data()[p..p + 4] == background.data()[p..p + 4],
-                        "arrow along ({u}, {v}): pixel ({x}, {y}) unmarked"
-                    );
-                }
-            }
+            let unmarked = change_outside(&mask, &ours, &background);
+            assert!(
+                unmarked.is_none(),
+                "arrow along ({u}, {v}): pixel {unmarked:?} unmarked"
+            );
         }
     }
 }
@@ -164,24 +153,6 @@ angular_velocity = 1.0
         |p, x, y, theta| look.draw_turned_fast(p, x, y, theta),
         |p, x, y, theta| look.draw_turned(p, x, y, theta),
     )
-}
-
-/// Returns the largest channel difference between two pixmaps and how many pixels
-/// differ by more than `slack` in some channel.
-fn diff_beyond(a: &Pixmap, b: &Pixmap, slack: u8) -> (u8, usize) {
-    let mut largest = 0;
-    let mut count = 0;
-    for (p, q) in a.data().chunks_exact(4).zip(b.data().chunks_exact(4)) {
-        let d = p
-            .iter()
-            .zip(q)
-            .map(|(x, y)| x.abs_diff(*y))
-            .max()
-            .unwrap_or(0);
-        largest = largest.max(d);
-        count += usize::from(d > slack);
-    }
-    (largest, count)
 }
 
 /// The most by which a convex outline in the opaque colour `color` (its fill; the

@@ -64,16 +64,11 @@ fn check_worker(name: &str, text: &str, order: &[usize], whole_at: Option<&[usiz
             "{name}, frame {k}: whole or tiles"
         );
         if !changed.is_whole() {
-            for y in 0..height as usize {
-                for x in 0..width as usize {
-                    let p = 4 * (y * width as usize + x);
-                    let marked = changed.row(y)[x / 8 / 64] >> (x / 8 % 64) & 1 == 1;
-                    assert!(
-                        marked || pixmap.data()[p..p + 4] == before.data()[p..p + 4],
-                        "{name}, frame {k}: pixel ({x}, {y}) changed outside the marked tiles"
-                    );
-                }
-            }
+            let outside = crate::util::change_outside(changed, &pixmap, &before);
+            assert!(
+                outside.is_none(),
+                "{name}, frame {k}: pixel {outside:?} changed outside the marked tiles"
+            );
         }
         let provenance = Provenance::default().with("physframes:frame", k);
         let ours = coder.encode(&pixmap, changed, &provenance).to_vec();

@@ -155,6 +155,12 @@ k = 1.0
 /// Returns the largest channel difference between two pixmaps and how many pixels
 /// differ at all.
 pub fn diff(a: &tiny_skia::Pixmap, b: &tiny_skia::Pixmap) -> (u8, usize) {
+    diff_beyond(a, b, 0)
+}
+
+/// Returns the largest channel difference between two pixmaps and how many pixels
+/// differ by more than `slack` in some channel.
+pub fn diff_beyond(a: &tiny_skia::Pixmap, b: &tiny_skia::Pixmap, slack: u8) -> (u8, usize) {
     let mut largest = 0;
     let mut count = 0;
     for (p, q) in a.data().chunks_exact(4).zip(b.data().chunks_exact(4)) {
@@ -165,9 +171,29 @@ pub fn diff(a: &tiny_skia::Pixmap, b: &tiny_skia::Pixmap) -> (u8, usize) {
             .max()
             .unwrap_or(0);
         largest = largest.max(d);
-        count += usize::from(d > 0);
+        count += usize::from(d > slack);
     }
     (largest, count)
+}
+
+/// Returns the first pixel, as (x, y), that differs between two pixmaps of a mask's
+/// size outside the tiles the mask marks; `None` when every change is marked.
+pub fn change_outside(
+    mask: &physframes::render::damage::TileMask,
+    a: &tiny_skia::Pixmap,
+    b: &tiny_skia::Pixmap,
+) -> Option<(usize, usize)> {
+    let width = a.width() as usize;
+    for y in 0..a.height() as usize {
+        for x in 0..width {
+            let p = 4 * (y * width + x);
+            let marked = mask.row(y)[x / 8 / 64] >> (x / 8 % 64) & 1 == 1;
+            if !marked && a.data()[p..p + 4] != b.data()[p..p + 4] {
+                return Some((x, y));
+            }
+        }
+    }
+    None
 }
 
 /// Returns the sum, over all pixels, of the largest channel difference between two
