@@ -59,19 +59,46 @@ struct ArrowGeometry {
     head: Option<[(f32, f32); 3]>,
 }
 
-impl ArrowGeometry {
-    /// Lays out an arrow from pixel (x, y) along the pixel vector (dx, dy), with a head
-    /// whose size follows the stroke width but never exceeds half the arrow's length;
-    /// `None` when it is shorter than half a pixel or not finite.
-    fn new(clip: &ClipRect, (x, y): (f64, f64), (dx, dy): (f64, f64), width: f32) -> Option<Self> {
+/// An arrow from pixel (x, y) along the pixel vector (dx, dy), before clipping: its
+/// direction, its head's length (which follows the stroke width but never exceeds half
+/// the arrow's length), the head's base on the shaft, and the tip.
+struct ArrowLayout {
+    unit: (f64, f64),
+    head: f64,
+    base: (f64, f64),
+    tip: (f64, f64),
+}
+
+impl ArrowLayout {
+    /// `None` when the arrow is shorter than half a pixel or not finite: nothing is
+    /// drawn.
+    fn new((x, y): (f64, f64), (dx, dy): (f64, f64), width: f32) -> Option<Self> {
         let len = (dx * dx + dy * dy).sqrt();
         if len < 0.5 || !len.is_finite() {
             return None;
         }
         let (ux, uy) = (dx / len, dy / len);
         let head = (4.0 * f64::from(width) + 4.0).min(0.5 * len);
-        let base = (x + dx - ux * head, y + dy - uy * head);
-        let tip = (x + dx, y + dy);
+        Some(ArrowLayout {
+            unit: (ux, uy),
+            head,
+            base: (x + dx - ux * head, y + dy - uy * head),
+            tip: (x + dx, y + dy),
+        })
+    }
+}
+
+impl ArrowGeometry {
+    /// Lays out an arrow from pixel (x, y) along the pixel vector (dx, dy)
+    /// ([`ArrowLayout`]) and clips it; `None` when nothing is drawn.
+    fn new(clip: &ClipRect, at: (f64, f64), d: (f64, f64), width: f32) -> Option<Self> {
+        let ArrowLayout {
+            unit: (ux, uy),
+            head,
+            base,
+            tip,
+        } = ArrowLayout::new(at, d, width)?;
+        let (x, y) = at;
         let half = 0.5 * head;
         Some(ArrowGeometry {
             shaft: clip.segment((x, y), base),
@@ -128,16 +155,12 @@ pub fn draw_arrow(
 /// tip, each grown as `raster::capsule_spans` grows them. A frame with trails then
 /// compresses afresh only those tiles, not the whole frame.
 pub fn mark_arrow(mask: &mut TileMask, at: (f64, f64), d: (f64, f64), width: f32) {
-    let (dx, dy) = d;
-    let len = (dx * dx + dy * dy).sqrt();
-    // Nothing is drawn, as ArrowGeometry::new says.
-    if len < 0.5 || !len.is_finite() || !at.0.is_finite() || !at.1.is_finite() {
+    let Some(ArrowLayout {
+        head, base, tip, ..
+    }) = ArrowLayout::new(at, d, width)
+    else {
         return;
-    }
-    let (ux, uy) = (dx / len, dy / len);
-    let head = (4.0 * f64::from(width) + 4.0).min(0.5 * len);
-    let tip = (at.0 + dx, at.1 + dy);
-    let base = (tip.0 - ux * head, tip.1 - uy * head);
+    };
     // A stroke wider than a pixel is a rectangle half its width about the line.
     // tiny-skia draws narrower ones as anti-aliased hairlines, which stray further: a
     // pixel whose centre lies 2.1 pixels from the line was drawn (an arrow from inside

@@ -153,44 +153,11 @@ pub(crate) fn capsule_spans(
     if !finite || half.is_nan() || half < 0.0 {
         return;
     }
-    let reach = half + 1.0;
+    // Centres within half + 1/2 + 1/2 of the segment: segment_rows adds the second 1/2.
     let (w, h) = (i64::from(width), i64::from(height));
-    // The segment's box, grown by the reach.
-    let (sx0, sx1) = (a.0.min(b.0) - reach, a.0.max(b.0) + reach);
-    let (sy0, sy1) = (a.1.min(b.1) - reach, a.1.max(b.1) + reach);
-    // A centre within the reach of the segment is within it of the line: for the row
-    // whose centres lie at y_c, x within mid ± spread, mid = a_x + (d_x/d_y)·(y_c - a_y)
-    // and spread = reach·|d|/|d_y| (segment_rows' bounds, with its division per row
-    // taken out; a thousandth of a pixel more each side covers the rounding).
-    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-    let len = (dx * dx + dy * dy).sqrt();
-    let sloped = dy.abs() > 1e-9 * len.max(1.0);
-    let (slope, spread) = if sloped {
-        (dx / dy, reach * len / dy.abs() + 1e-3)
-    } else {
-        (0.0, f64::INFINITY)
-    };
-    // Bounds are kept near the image before they become integers: an arrow of a run
-    // that is blowing up reaches 10^300 pixels away, and a NaN (of inf - inf) is
-    // ordered with nothing.
-    let (near_w, near_h) = (w as f64 + 1.0, h as f64 + 1.0);
-    let (top, bottom) = ((sy0 - 0.5).max(-1.0), (sy1 - 0.5).min(near_h));
-    if top.partial_cmp(&bottom).is_none_or(|o| o.is_gt()) {
-        return;
-    }
-    for y in ceil(top).max(0)..(floor(bottom) + 1).min(h) {
-        let mid = a.0 + slope * (y as f64 + 0.5 - a.1);
-        let lo = (sx0.max(mid - spread) - 0.5).max(-1.0);
-        let hi = (sx1.min(mid + spread) - 0.5).min(near_w);
-        if lo.partial_cmp(&hi).is_none_or(|o| o.is_gt()) {
-            continue;
-        }
-        let first = ceil(lo).max(0);
-        let end = (floor(hi) + 1).min(w);
-        if first < end {
-            span(y as usize, first as usize, end as usize);
-        }
-    }
+    segment_rows(a, b, half + 0.5, (0, w), (0, h), |y, first, end, _| {
+        span(y as usize, first as usize, end as usize);
+    });
 }
 
 /// Each thread's coverage buffer over a polyline's bounding box, all zeros between
@@ -267,7 +234,15 @@ fn segment_rows(
     // it of the line, |n·(p − a)| ≤ reach, which bounds each row's columns when the
     // line is not level.
     let (nx, ny) = (-uy, ux);
-    for y in ceil(sy0 - 0.5).max(rows.0)..(floor(sy1 - 0.5) + 1).min(rows.1) {
+    // Bounds are kept within a pixel of the columns and rows asked for before they
+    // become integers, which changes no span: a segment of a run that is blowing up
+    // reaches 10^300 pixels away, and a NaN (of inf - inf) is ordered with nothing.
+    let near = |v: f64, (lo, hi): (i64, i64)| v.clamp(lo as f64 - 1.0, hi as f64 + 1.0);
+    let (top, bottom) = (near(sy0 - 0.5, rows), near(sy1 - 0.5, rows));
+    if top.partial_cmp(&bottom).is_none_or(|o| o.is_gt()) {
+        return;
+    }
+    for y in ceil(top).max(rows.0)..(floor(bottom) + 1).min(rows.1) {
         let yc = y as f64 + 0.5;
         let (mut lo, mut hi) = (sx0, sx1);
         if nx.abs() > 1e-9 {
@@ -276,8 +251,12 @@ fn segment_rows(
             let spread = reach / nx.abs();
             (lo, hi) = (lo.max(mid - spread), hi.min(mid + spread));
         }
-        let first = ceil(lo - 0.5).max(cols.0);
-        let end = (floor(hi - 0.5) + 1).min(cols.1);
+        let (lo, hi) = (near(lo - 0.5, cols), near(hi - 0.5, cols));
+        if lo.partial_cmp(&hi).is_none_or(|o| o.is_gt()) {
+            continue;
+        }
+        let first = ceil(lo).max(cols.0);
+        let end = (floor(hi) + 1).min(cols.1);
         if first >= end {
             continue;
         }
