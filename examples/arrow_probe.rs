@@ -6,14 +6,14 @@
 //! ```
 //!
 //! It lays out every arrow the renderer would draw at the start of the run, draws them
-//! all into a pixmap of the scene's size 200 times with [`draw_arrow`] (the scan
-//! converter) and with [`draw_arrow_path`] (tiny-skia's paths), and prints the best
+//! all into a pixmap of the scene's size 200 times with [`draw_arrow`] (ramps,
+//! `raster/ramps.rs`) and with [`draw_arrow_path`] (tiny-skia's paths), and prints the best
 //! milliseconds of each, how many pixels the arrows cover, and how many differ between
 //! the two drawings and by how much. With `ONE_SPOT=1` every arrow starts at the same
 //! pixel, so that the pixels stay in the cache and only the arithmetic is timed; with
 //! `SCALE=K` every arrow is K times as long (what an arrow costs whatever its length,
 //! against what its length costs); with `SKIP_PATHS=1` the paths are not drawn (to
-//! profile the scan converter alone); with `SAVE_TO=DIR` both drawings are written to
+//! profile the ramps alone); with `SAVE_TO=DIR` both drawings are written to
 //! DIR as raw RGBA (`scan.rgba`, `paths.rgba`).
 
 use std::path::Path;
@@ -76,7 +76,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             draw_arrow(p, &clip, at, d, colour, 2.0);
         }
     })?;
-    // With SKIP_PATHS, tiny-skia's paths draw nothing: a profile of the scan converter
+    // With SKIP_PATHS, tiny-skia's paths draw nothing: a profile of the ramps
     // alone (the comparison below is then meaningless).
     let skip = std::env::var_os("SKIP_PATHS").is_some();
     let (paths, b) = time(&|p| {
@@ -109,7 +109,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         )
     };
     println!(
-        "{} arrows, best of 200: the scan converter {fast:.3} ms, tiny-skia's paths {paths:.3} ms",
+        "{} arrows, best of 200: ramps {fast:.3} ms, tiny-skia's paths {paths:.3} ms",
         arrows.len()
     );
     println!("against the paths: {}", compare(&a, &b));

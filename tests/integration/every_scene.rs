@@ -12,52 +12,89 @@ use tiny_skia::{Color, Pixmap};
 use crate::util::{change_outside, diff, diff_beyond};
 
 #[test]
-fn arrows_from_the_scan_converter_are_tiny_skias_arrows() {
+fn arrows_covered_by_ramps_stay_within_their_bound_of_tiny_skias() {
     // Arrows of every direction and of lengths from a pixel to past the image, 2
-    // pixels wide as bodies' arrows are, and 1.5 and 3: the bytes are tiny-skia's,
-    // inside the image and where an arrow crosses its edge (both cut the edges to the
-    // image first, the same way).
+    // pixels wide as bodies' arrows are, and 1.5 and 3, each drawn alone over the
+    // background both ways. `draw_arrow` covers a pixel by the product of ramps
+    // (`raster/ramps.rs`), tiny-skia by four sub-rows of quarter-pixel columns. Along
+    // one side the two differ by at most: tiny-skia's columns rounded to a quarter
+    // pixel in each sub-row (1/8 of a pixel's coverage at most), its four sub-rows
+    // standing for the rows between them (1/8 at most), and a ramp's straight line
+    // against the exact area (0.043, at 45°): 0.293 of the ink's contrast with the
+    // background, plus a level for rounding. Those errors are spread either way, so on
+    // average over the pixels an arrow covers they come to far less: a side pixel
+    // errs by 1/16 on average in each of tiny-skia's two roundings, and about half of
+    // an arrow's pixels are on a side, so 1/16 of the contrast bounds the mean.
+    // (Measured: 0.23 of the contrast at most, 0.020 on average.)
     let (w, h) = (160u32, 120u32);
     let clip = ClipRect::guard(w, h);
+    let background = [250u8, 248, 240, 255];
     let colors = [
         Color::from_rgba8(0x1f, 0x4e, 0x9c, 0xff),
         Color::from_rgba8(0xc0, 0x39, 0x2b, 0x99),
     ];
-    let mut ours = Pixmap::new(w, h).expect("pixmap");
-    ours.fill(Color::from_rgba8(250, 248, 240, 255));
-    let mut theirs = ours.clone();
-    let mut crossing = ours.clone();
-    let mut crossing_theirs = ours.clone();
-    for k in 0..300u32 {
+    let mut blank = Pixmap::new(w, h).expect("pixmap");
+    blank.fill(Color::from_rgba8(
+        background[0],
+        background[1],
+        background[2],
+        background[3],
+    ));
+    let (mut covered, mut sum, mut worst) = (0usize, 0.0f64, 0.0f64);
+    for k in 0..600u32 {
         let a = f64::from(k) * 2.399_963; // the golden angle: every direction.
         let len = 1.0 + f64::from(k % 37) * 2.1;
         let at = (
             20.0 + f64::from(k % 13) * 9.37 + 0.13,
             15.0 + f64::from(k % 11) * 8.71 + 0.29,
         );
-        let d = (len * a.cos(), len * a.sin());
-        let width = [2.0, 1.5, 3.0][(k % 3) as usize];
-        let c = colors[(k % 2) as usize];
-        // Arrows kept inside the image, and others sent across its edges.
-        if at.0 + d.0 > 2.0 && at.0 + d.0 < 158.0 && at.1 + d.1 > 2.0 && at.1 + d.1 < 118.0 {
-            draw_arrow(&mut ours, &clip, at, d, c, width);
-            draw_arrow_path(&mut theirs, &clip, at, d, c, width);
+        // Every other arrow four times as long: many cross the image's edges.
+        let d = if k % 2 == 0 {
+            (len * a.cos(), len * a.sin())
         } else {
-            draw_arrow(&mut crossing, &clip, at, (4.0 * d.0, 4.0 * d.1), c, width);
-            draw_arrow_path(
-                &mut crossing_theirs,
-                &clip,
-                at,
-                (4.0 * d.0, 4.0 * d.1),
-                c,
-                width,
-            );
+            (4.0 * len * a.cos(), 4.0 * len * a.sin())
+        };
+        let width = [2.0, 1.5, 3.0][(k % 3) as usize];
+        let c = colors[(k / 2 % 2) as usize];
+        let (mut ours, mut theirs) = (blank.clone(), blank.clone());
+        draw_arrow(&mut ours, &clip, at, d, c, width);
+        draw_arrow_path(&mut theirs, &clip, at, d, c, width);
+        // The ink's contrast with the background, channel by channel, as drawn over
+        // it at full coverage.
+        let ink = c.premultiply().to_color_u8();
+        let full = [ink.red(), ink.green(), ink.blue(), ink.alpha()];
+        let alpha = f64::from(full[3]) / 255.0;
+        let contrast = (0..3)
+            .map(|i| {
+                let over = f64::from(full[i]) + f64::from(background[i]) * (1.0 - alpha);
+                (over - f64::from(background[i])).abs()
+            })
+            .fold(0.0, f64::max);
+        for (po, pt) in ours
+            .data()
+            .chunks_exact(4)
+            .zip(theirs.data().chunks_exact(4))
+        {
+            if po != background || pt != background {
+                let d = po
+                    .iter()
+                    .zip(pt)
+                    .map(|(x, y)| f64::from(x.abs_diff(*y)))
+                    .fold(0.0, f64::max);
+                assert!(
+                    d <= 0.293 * contrast + 1.0,
+                    "arrow {k}: a pixel differs by {d} of contrast {contrast}"
+                );
+                covered += 1;
+                sum += d / contrast;
+                worst = worst.max(d / contrast);
+            }
         }
     }
-    let (largest, count) = diff(&ours, &theirs);
-    assert_eq!((largest, count), (0, 0), "arrows inside the image");
-    let (largest, count) = diff(&crossing, &crossing_theirs);
-    assert_eq!((largest, count), (0, 0), "arrows across the edge");
+    let mean = sum / covered as f64;
+    assert!(covered > 20_000, "{covered} pixels covered");
+    assert!(mean <= 1.0 / 16.0, "on average {mean} of the contrast");
+    eprintln!("{covered} pixels covered: {worst:.3} of the contrast at most, {mean:.4} on average");
 }
 
 #[test]

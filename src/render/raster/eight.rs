@@ -11,7 +11,7 @@
 //!
 //! Scalar code branches on every span's ends (a span within one pixel, a partial first
 //! or last pixel), and those branches follow the shape's edges, which the processor
-//! cannot predict: for an arrow's thin shaft, that costs more than the arithmetic.
+//! cannot predict: for a thin shape, that costs more than the arithmetic.
 
 use crate::render::sprite::Ink;
 

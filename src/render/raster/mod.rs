@@ -3,8 +3,8 @@
 //!
 //! Drawing a thousand small paths a frame through tiny-skia costs far more in setting
 //! up each path (a path object, edge lists, a pipeline, a blitter) than in covering its
-//! few pixels. What moves every frame in its own way, and so cannot be a sprite (an
-//! arrow of any length and direction, a box at any angle), is drawn here instead: one
+//! few pixels. What moves every frame in its own way, and so cannot be a sprite (a box
+//! at any angle, a translucent outline), is drawn here instead: one
 //! or more closed polygons filled with the nonzero rule, which covers a convex shape,
 //! and the ring between two nested ones (an outline's stroke), with the coverage blended
 //! by tiny-skia's 8-bit arithmetic ([`Ink`]).
@@ -26,10 +26,11 @@
 //! rows' coverage and blend eight pixels at a time in `eight.rs`, and in `avx2.rs`
 //! with AVX2 where the processor has it, the same bytes), `shapes.rs`
 //! builds the polygons of strokes (a line's rectangle, a stroked outline's ring), and
-//! `clipper.rs` cuts a shape's edges to the image as tiny-skia does. `lines.rs` is the
-//! one approximation: thin round-joined polylines (springs' coils, and trails a
-//! segment at a time) covered by the distance of each pixel's centre to the line, not
-//! by tiny-skia's samples.
+//! `clipper.rs` cuts a shape's edges to the image as tiny-skia does. Two files
+//! approximate instead, each within a stated bound of tiny-skia: `lines.rs`, thin
+//! round-joined polylines (springs' coils, and trails a segment at a time) covered by
+//! the distance of each pixel's centre to the line; and `ramps.rs`, arrows' shafts and
+//! heads covered by the product of a ramp across each side.
 //!
 //! Coordinates must be near the image: callers clip them to the guard band first, where
 //! the fixed-point arithmetic cannot overflow (tiny-skia's limit is 8191 pixels).
@@ -40,6 +41,7 @@ mod clipper;
 mod convex;
 mod eight;
 mod lines;
+mod ramps;
 mod shapes;
 
 use std::cell::RefCell;
@@ -53,6 +55,7 @@ pub use convex::{cover_convex, fill_convex, fill_layers, fill_turned, fill_turne
 pub(crate) use eight::{prefetch, prefetch_around, AHEAD, PREFETCH_REACH};
 pub(crate) use lines::capsule_spans;
 pub use lines::{cover_capsule, stroke_polyline};
+pub use ramps::{fill_ramps, Ramps};
 pub use shapes::{bar, capsule, disc, Ring, DISC_POLYGON_TOLERANCE};
 
 /// A point in pixels.
