@@ -145,12 +145,17 @@ pub fn draw_arrow(
         return;
     };
     let ink = Ink::of(c);
-    // The shaft clipped to the guard band, the head drawn only when its tip is
-    // inside it: as ArrowGeometry lays them out for tiny-skia.
-    if let Some(shaft) = clip
-        .segment(at, base)
-        .and_then(|(a, b)| raster::Ramps::shaft(a, b, 0.5 * f64::from(width)))
-    {
+    // The shaft clipped to the guard band (where it reaches outside), the head drawn
+    // only when its tip is inside it: as ArrowGeometry lays them out for tiny-skia.
+    let half = 0.5 * f64::from(width);
+    let shaft = if clip.contains(at.0, at.1) && clip.contains(base.0, base.1) {
+        let len = (d.0 * d.0 + d.1 * d.1).sqrt() - head;
+        raster::Ramps::shaft_along(at, unit, len, half)
+    } else {
+        clip.segment(at, base)
+            .and_then(|(a, b)| raster::Ramps::shaft(a, b, half))
+    };
+    if let Some(shaft) = shaft {
         raster::fill_ramps(pixmap, &shaft, ink);
     }
     if clip.contains(tip.0, tip.1) {
