@@ -7,7 +7,7 @@
 //!
 //! It lays out every arrow the renderer would draw at the start of the run, draws them
 //! all into a pixmap of the scene's size 200 times with [`draw_arrow`] (ramps,
-//! `raster/ramps.rs`) and with [`draw_arrow_path`] (tiny-skia's paths), and prints the best
+//! `raster/ramps/`) and with [`draw_arrow_path`] (tiny-skia's paths), and prints the best
 //! milliseconds of each, how many pixels the arrows cover, and how many differ between
 //! the two drawings and by how much. With `ONE_SPOT=1` every arrow starts at the same
 //! pixel, so that the pixels stay in the cache and only the arithmetic is timed; with

@@ -16,7 +16,7 @@ fn arrows_covered_by_ramps_stay_within_their_bound_of_tiny_skias() {
     // Arrows of every direction and of lengths from a pixel to past the image, 2
     // pixels wide as bodies' arrows are, and 1.5 and 3, each drawn alone over the
     // background both ways. `draw_arrow` covers a pixel by the product of ramps
-    // (`raster/ramps.rs`), tiny-skia by four sub-rows of quarter-pixel columns. Along
+    // (`raster/ramps/`), tiny-skia by four sub-rows of quarter-pixel columns. Along
     // one side the two differ by at most: tiny-skia's columns rounded to a quarter
     // pixel in each sub-row (1/8 of a pixel's coverage at most), its four sub-rows
     // standing for the rows between them (1/8 at most), and a ramp's straight line

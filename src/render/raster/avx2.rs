@@ -2,7 +2,7 @@
 //! eight-pixel blend (`eight.rs`), with a pixel row's work in a few wide registers.
 //!
 //! A thin shape (a turning box's outline; once, arrows, which are now covered by
-//! ramps in `ramps.rs`) is mostly rows of three to six pixels, so what a row costs around its one
+//! ramps in `ramps/`) is mostly rows of three to six pixels, so what a row costs around its one
 //! eight-pixel blend (asking each chain for four crossings, rounding them to columns,
 //! finding the pixels they touch) cost more than the blend. Here, where both chains go
 //! on with one edge each through a whole pixel row, which is most rows of a shaft, the

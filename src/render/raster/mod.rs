@@ -29,7 +29,7 @@
 //! `clipper.rs` cuts a shape's edges to the image as tiny-skia does. Two files
 //! approximate instead, each within a stated bound of tiny-skia: `lines.rs`, thin
 //! round-joined polylines (springs' coils, and trails a segment at a time) covered by
-//! the distance of each pixel's centre to the line; and `ramps.rs`, arrows' shafts and
+//! the distance of each pixel's centre to the line; and `ramps/`, arrows' shafts and
 //! heads covered by the product of a ramp across each side.
 //!
 //! Coordinates must be near the image: callers clip them to the guard band first, where
