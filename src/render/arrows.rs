@@ -60,10 +60,11 @@ struct ArrowGeometry {
 }
 
 /// An arrow from pixel (x, y) along the pixel vector (dx, dy), before clipping: its
-/// direction, its head's length (which follows the stroke width but never exceeds half
-/// the arrow's length), the head's base on the shaft, and the tip.
+/// direction and length, its head's length (which follows the stroke width but never
+/// exceeds half the arrow's length), the head's base on the shaft, and the tip.
 struct ArrowLayout {
     unit: (f64, f64),
+    len: f64,
     head: f64,
     base: (f64, f64),
     tip: (f64, f64),
@@ -81,6 +82,7 @@ impl ArrowLayout {
         let head = (4.0 * f64::from(width) + 4.0).min(0.5 * len);
         Some(ArrowLayout {
             unit: (ux, uy),
+            len,
             head,
             base: (x + dx - ux * head, y + dy - uy * head),
             tip: (x + dx, y + dy),
@@ -94,6 +96,7 @@ impl ArrowGeometry {
     fn new(clip: &ClipRect, at: (f64, f64), d: (f64, f64), width: f32) -> Option<Self> {
         let ArrowLayout {
             unit: (ux, uy),
+            len: _,
             head,
             base,
             tip,
@@ -137,6 +140,7 @@ pub fn draw_arrow(
     }
     let Some(ArrowLayout {
         unit,
+        len,
         head,
         base,
         tip,
@@ -149,8 +153,7 @@ pub fn draw_arrow(
     // only when its tip is inside it: as ArrowGeometry lays them out for tiny-skia.
     let half = 0.5 * f64::from(width);
     let shaft = if clip.contains(at.0, at.1) && clip.contains(base.0, base.1) {
-        let len = (d.0 * d.0 + d.1 * d.1).sqrt() - head;
-        raster::Ramps::shaft_along(at, unit, len, half)
+        raster::Ramps::shaft_along(at, unit, len - head, half)
     } else {
         clip.segment(at, base)
             .and_then(|(a, b)| raster::Ramps::shaft(a, b, half))

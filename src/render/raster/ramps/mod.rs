@@ -289,51 +289,9 @@ impl Ramps<2> {
 }
 
 impl Ramps<3> {
-    /// A triangle (an arrow's head), its points in pixels in either winding; `None`
-    /// when it has no area or is not finite.
-    pub fn triangle(points: [(f64, f64); 3]) -> Option<Self> {
-        let origin = (floor(points[0].0), floor(points[0].1));
-        let rel = points.map(|p| (p.0 - origin.0, p.1 - origin.1));
-        let mean = (
-            (rel[0].0 + rel[1].0 + rel[2].0) / 3.0,
-            (rel[0].1 + rel[1].1 + rel[2].1) / 3.0,
-        );
-        let mut slabs = [(); 3].map(|_| Slab {
-            n: (0.0, 0.0),
-            d: 0.0,
-            g: 0.5,
-            h: f64::INFINITY,
-        });
-        for (i, slab) in slabs.iter_mut().enumerate() {
-            let (a, b) = (rel[i], rel[(i + 1) % 3]);
-            let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-            let len = (dx * dx + dy * dy).sqrt();
-            if !(len > 1e-9 && len.is_finite()) {
-                return None;
-            }
-            // The edge's unit normal towards the inside (where the mean lies).
-            let (mut nx, mut ny) = (dy / len, -dx / len);
-            if nx * (mean.0 - a.0) + ny * (mean.1 - a.1) < 0.0 {
-                (nx, ny) = (-nx, -ny);
-            }
-            // t = n·(p - a) at pixel centres p: the distance inside the edge.
-            slab.n = (nx, ny);
-            slab.d = -(nx * (a.0 - 0.5) + ny * (a.1 - 0.5));
-        }
-        // No area: the mean on an edge's line.
-        if slabs.iter().any(|s| {
-            let t = s.n.0 * (mean.0 - 0.5) + s.n.1 * (mean.1 - 0.5) + s.d;
-            t.abs() < 1e-9
-        }) {
-            return None;
-        }
-        Self::from_edges(slabs, origin)
-    }
-
     /// An arrow's head: the triangle from its tip back `len` pixels along the unit
-    /// vector -`unit` to its base, `len` wide there, as [`Ramps::triangle`] of those
-    /// points would be but without their square roots; `None` when not finite or
-    /// without length.
+    /// vector -`unit` to its base, `len` wide there (each edge a slab open on its
+    /// outer side); `None` when not finite or without length.
     pub fn head(tip: (f64, f64), unit: (f64, f64), len: f64) -> Option<Self> {
         if !(len > 1e-9 && len.is_finite()) {
             return None;
