@@ -5,7 +5,11 @@
 use std::arch::x86_64::*;
 
 use super::{fill_row, Ramps, Rows};
+use crate::render::raster::prefetch;
 use crate::render::sprite::Ink;
+
+/// How many rows ahead [`fill`] asks for pixels.
+const AHEAD: usize = 4;
 
 /// The rows laid out in `rows` (from image row `first`) eight pixels a register,
 /// with [`super::fill_row`]'s bytes. Two rows of at most four pixels each (a steep
@@ -29,6 +33,12 @@ pub(super) unsafe fn fill<const E: usize>(
     let k = Kernel::new(r, ink);
     let mut j = 0;
     while j < n {
+        // The pixels four rows on, which the rows laid out already give: an
+        // arrow's few pixels a row are each a line of memory to wait for.
+        if j + AHEAD + 1 < n {
+            prefetch(data, rows.at[j + AHEAD] as usize);
+            prefetch(data, rows.at[j + AHEAD + 1] as usize);
+        }
         if j + 1 < n && rows.narrow[j] & rows.narrow[j + 1] != 0 {
             k.pair(data, rows, j);
             j += 2;
