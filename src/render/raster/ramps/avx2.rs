@@ -18,7 +18,9 @@ const AHEAD: usize = 4;
 /// one by one.
 ///
 /// # Safety
-/// The processor must have AVX2, and the image must be at least eight pixels wide.
+/// The processor must have AVX2, the image must be at least eight pixels wide, and
+/// `rows` must have been laid out by `lay_out` for rows first..first + n of this image
+/// (its byte offsets and narrow rows are trusted, unchecked).
 #[target_feature(enable = "avx2")]
 #[allow(clippy::too_many_arguments)]
 pub(super) unsafe fn fill<const E: usize>(
