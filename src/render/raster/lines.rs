@@ -26,6 +26,7 @@ use std::cell::RefCell;
 
 use tiny_skia::Pixmap;
 
+use super::{ceil, floor};
 use crate::render::sprite::Ink;
 
 /// Strokes the polyline through `points` (pixels), `width` pixels wide with round
@@ -270,21 +271,6 @@ fn segment_rows(
         };
         row(y, first, end, &seg);
     }
-}
-
-/// ⌊v⌋ for a finite v near the image, without a call to the C library (x86-64's
-/// baseline has no rounding instruction).
-#[inline(always)]
-fn floor(v: f64) -> i64 {
-    let i = v as i64;
-    i - i64::from((i as f64) > v)
-}
-
-/// ⌈v⌉, likewise.
-#[inline(always)]
-fn ceil(v: f64) -> i64 {
-    let i = v as i64;
-    i + i64::from((i as f64) < v)
 }
 
 /// One segment seen from one pixel row, in f32 relative to its start a.

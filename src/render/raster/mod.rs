@@ -248,6 +248,21 @@ pub fn fill_ring(pixmap: &mut Pixmap, outer: &[Point], inner: &mut [Point], ink:
     fill_polygons(pixmap, &[outer, inner], ink);
 }
 
+/// ⌊v⌋ for a finite v near the image, without a call to the C library (x86-64's
+/// baseline has no rounding instruction).
+#[inline(always)]
+pub(super) fn floor(v: f64) -> i64 {
+    let i = v as i64;
+    i - i64::from((i as f64) > v)
+}
+
+/// ⌈v⌉, likewise.
+#[inline(always)]
+pub(super) fn ceil(v: f64) -> i64 {
+    let i = v as i64;
+    i + i64::from((i as f64) < v)
+}
+
 /// Twice the signed area of a polygon (the shoelace formula).
 pub(super) fn signed_area(points: &[Point]) -> f64 {
     let n = points.len();

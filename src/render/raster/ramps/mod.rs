@@ -37,6 +37,7 @@ use std::cell::RefCell;
 
 use tiny_skia::Pixmap;
 
+use super::floor;
 use crate::render::sprite::Ink;
 
 /// A pixel whose coverage rounds to a byte above zero lies at least 1/510 of a pixel
@@ -63,19 +64,6 @@ pub struct Ramps<const E: usize> {
     /// [`SLACK`]; a slab level with the rows bounds nothing (±1e9).
     lo: [(f32, f32); E],
     hi: [(f32, f32); E],
-}
-
-/// ⌊v⌋ for |v| < 2^52 without a call into the maths library (the default target
-/// has no rounding instruction); v is first cut to ±1e9.
-#[inline(always)]
-fn floor(v: f64) -> f64 {
-    let v = v.clamp(-1e9, 1e9);
-    let t = v as i64 as f64;
-    if t > v {
-        t - 1.0
-    } else {
-        t
-    }
 }
 
 /// A slab in f64 before it is stored: unit normal, offset at pixel centres relative
@@ -110,8 +98,8 @@ impl<const E: usize> Ramps<E> {
             origin: (origin.0 as i64, oy),
             // Rows whose centre may lie inside, one to spare each side.
             rows: (
-                oy + floor(rows.0 - 0.5) as i64,
-                oy + floor(rows.1 - 0.5) as i64 + 2,
+                oy + floor(clamp(rows.0 - 0.5)),
+                oy + floor(clamp(rows.1 - 0.5)) + 2,
             ),
             lo: [(-1e9, 0.0); E],
             hi: [(1e9, 0.0); E],
@@ -254,7 +242,7 @@ impl Ramps<2> {
         }
         let (ux, uy) = unit;
         let dy = len * uy;
-        let origin = (floor(a.0), floor(a.1));
+        let origin = (floor(a.0) as f64, floor(a.1) as f64);
         // The start relative to the origin, less the half pixel to pixel centres.
         let (px, py) = (a.0 - origin.0 - 0.5, a.1 - origin.1 - 0.5);
         // Across: t = n·(p - a), the signed distance from the axis; covered for
@@ -296,7 +284,7 @@ impl Ramps<3> {
         if !(len > 1e-9 && len.is_finite()) {
             return None;
         }
-        let origin = (floor(tip.0), floor(tip.1));
+        let origin = (floor(tip.0) as f64, floor(tip.1) as f64);
         // The tip relative to the origin, less the half pixel to pixel centres.
         let (px, py) = (tip.0 - origin.0 - 0.5, tip.1 - origin.1 - 0.5);
         let (ux, uy) = unit;
