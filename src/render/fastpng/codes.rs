@@ -50,6 +50,8 @@ pub(super) struct Codes {
     /// Literal bytes 0 to 255 packed for the word loop of `Deflate::bytes`: the code
     /// in the low 16 bits and its length above them.
     pub(super) packed: [u32; 256],
+    /// The length of the literal zero's code, whose bits are all zero.
+    pub(super) zero_length: u32,
     /// A match of length 3 to 258 at distance 1, length code, extra bits and distance
     /// code together: (bits, count), indexed by length.
     pub(super) run: Vec<(u64, u32)>,
@@ -105,6 +107,9 @@ impl Codes {
             let bits = code | extra << code_length | distance_one.0 << (code_length + EXTRA[k]);
             *entry = (bits, code_length + EXTRA[k] + distance_one.1);
         }
+        // The word loop leaves zero bytes' codes out of the bits and counts only their
+        // lengths: the literal zero must be the first code of the shortest length.
+        assert_eq!(literal[0].0, 0, "the literal zero's code is all zero bits");
         let packed = std::array::from_fn(|b| {
             let (code, length) = literal[b];
             code as u32 | length << 16
@@ -117,6 +122,7 @@ impl Codes {
             zlib: [0x78, 0x01],
             literal,
             packed,
+            zero_length: literal[0].1,
             run,
             zeros: Vec::new(),
         };

@@ -196,25 +196,21 @@ impl<'c> Deflate<'c> {
                 let first = word.trailing_zeros() / 8;
                 let last = 7 - word.leading_zeros() / 8;
                 run += first as usize;
-                match codes.zeros.get(run) {
-                    Some(&(bits, count)) if count <= 56 => sink.emit(bits, count),
+                let (run_bits, run_count) = match codes.zeros.get(run) {
+                    Some(&(bits, count)) if count <= 56 => (bits, count),
                     // A run too long for one write, rarely met among busy words.
                     _ => {
                         sink.give(self);
                         self.run = run;
                         self.flush_run();
                         sink = Sink::take(self, SINK_BYTES_PER_WORD * (words - block));
+                        (0, 0)
                     }
-                }
+                };
                 if MARK {
-                    mark = mark.min(sink.bit_position());
+                    mark = mark.min(sink.bit_position() + run_count as usize);
                 }
-                // 0xff in the bytes first..=last, 0 elsewhere.
-                let keep = (u64::MAX << (8 * first)) & (u64::MAX >> (8 * (7 - last)));
-                let (low, low_count) = half(&codes.packed, word, keep);
-                let (high, high_count) = half(&codes.packed, word >> 32, keep >> 32);
-                sink.emit(low, low_count);
-                sink.emit(high, high_count);
+                sink.word(codes, word, first, last, run_bits, run_count);
                 run = (7 - last) as usize;
             }
             run += 8 * (n - next);
@@ -284,23 +280,19 @@ impl<'c> Deflate<'c> {
                 let first = word.trailing_zeros() / 8;
                 let last = 7 - word.leading_zeros() / 8;
                 run += first as usize;
-                match codes.zeros.get(run) {
-                    Some(&(bits, count)) if count <= 56 => sink.emit(bits, count),
+                let (run_bits, run_count) = match codes.zeros.get(run) {
+                    Some(&(bits, count)) if count <= 56 => (bits, count),
                     // A run too long for one write (the zeros of a clean span before).
                     _ => {
                         sink.give(self);
                         self.run = run;
                         self.flush_run();
                         sink = Sink::take(self, SINK_BYTES_PER_WORD * 4 * (tiles - k));
+                        (0, 0)
                     }
-                }
-                start = start.min(sink.bit_position());
-                // 0xff in the bytes first..=last, 0 elsewhere.
-                let keep = (u64::MAX << (8 * first)) & (u64::MAX >> (8 * (7 - last)));
-                let (low, low_count) = half(&codes.packed, word, keep);
-                let (high, high_count) = half(&codes.packed, word >> 32, keep >> 32);
-                sink.emit(low, low_count);
-                sink.emit(high, high_count);
+                };
+                start = start.min(sink.bit_position() + run_count as usize);
+                sink.word(codes, word, first, last, run_bits, run_count);
                 run = (7 - last) as usize;
             }
             run += 8 * (4 - next);
@@ -355,7 +347,7 @@ impl<'c> Deflate<'c> {
 
 /// The most bytes one word of [`Deflate::bytes_marked`] writes: a run's code (at most
 /// 56 bits; longer ones go through [`Deflate::flush_run`]) and eight literals of at
-/// most 14 bits, with a spare word for the unaligned store past them.
+/// most 14 bits (21 bytes), with room for the unaligned 16-byte store past them.
 const SINK_BYTES_PER_WORD: usize = 32;
 
 /// A [`Deflate`]'s output taken into locals for a loop, so that its length and pending
@@ -425,19 +417,76 @@ impl Sink {
         self.acc >>= 8 * whole;
         self.n -= 8 * whole;
     }
+
+    /// Appends the low `count` bits of `bits` (count ≤ 120; no higher bit may be set)
+    /// as [`Sink::emit`] does, through one unaligned 128-bit store: the pending bits
+    /// and the new ones are at most 127.
+    #[inline(always)]
+    fn emit_wide(&mut self, bits: u128, count: u32) {
+        debug_assert!(count <= 120 && self.n < 8 && bits >> count == 0);
+        let all = u128::from(self.acc) | bits << self.n;
+        let n = self.n + count;
+        assert!(self.len + 16 <= self.room, "the sink's room was reserved");
+        // SAFETY: the sixteen bytes at `len` lie within the capacity (asserted).
+        unsafe {
+            self.ptr
+                .add(self.len)
+                .cast::<[u8; 16]>()
+                .write_unaligned(all.to_le_bytes());
+        }
+        let whole = n / 8;
+        self.len += whole as usize;
+        // At most 120 bits are shifted out: the shift is defined.
+        self.acc = (all >> (8 * whole)) as u64;
+        self.n = n - 8 * whole;
+    }
+
+    /// Appends a run's code (`run_count` ≤ 56 bits) and then the codes of the bytes
+    /// first..=last of `word`, in one write when together they take at most 120 bits
+    /// (nearly always: seven literals of 9 bits and a run of a thousand zeros), in two
+    /// otherwise.
+    ///
+    /// The literal zero's code is all zero bits (`Codes::new` asserts it), so a zero
+    /// byte adds nothing to the bits, only its length. So the word is shifted down to
+    /// its first nonzero byte, all eight bytes' codes are put together unmasked, and
+    /// the zeros shifted in above the last nonzero byte are taken off the count.
+    #[inline(always)]
+    fn word(
+        &mut self,
+        codes: &Codes,
+        word: u64,
+        first: u32,
+        last: u32,
+        run_bits: u64,
+        run_count: u32,
+    ) {
+        let shifted = word >> (8 * first);
+        let (low, low_count) = half(&codes.packed, shifted);
+        let (high, high_count) = half(&codes.packed, shifted >> 32);
+        // The zeros after the last literal: bits of nothing, lengths to take off.
+        let after = 7 - (last - first);
+        // Literals: low then high, at most 112 bits. When the last literal lies in the
+        // low half, `high` is all zeros and its place does not matter.
+        let literals = u128::from(low) | u128::from(high) << low_count;
+        let literal_count = low_count + high_count - codes.zero_length * after;
+        let count = run_count + literal_count;
+        if count <= 120 {
+            self.emit_wide(u128::from(run_bits) | literals << run_count, count);
+        } else {
+            self.emit(run_bits, run_count);
+            self.emit_wide(literals, literal_count);
+        }
+    }
 }
 
-/// The codes of the low four bytes of `word` whose byte in `keep` is 0xff, one after
-/// the other, and their length (at most 4 · 14 = 56 bits, as [`Sink::emit`] takes),
-/// from `packed` (each code in the low 16 bits of its entry, its length above).
+/// The codes of the low four bytes of `word`, one after the other, and their length
+/// (at most 4 · 14 = 56 bits, as [`Sink::emit`] takes), from `packed` (each code in the
+/// low 16 bits of its entry, its length above).
 #[inline(always)]
-fn half(packed: &[u32; 256], word: u64, keep: u64) -> (u64, u32) {
+fn half(packed: &[u32; 256], word: u64) -> (u64, u32) {
     let (mut bits, mut count) = (0u64, 0u32);
     for i in 0..4 {
         let entry = packed[((word >> (8 * i)) & 0xff) as usize];
-        // All ones for a byte kept, zero otherwise.
-        let mask = ((keep >> (8 * i)) & 0xff) as u32 * 0x0101_0101;
-        let entry = entry & mask;
         bits |= u64::from(entry & 0xffff) << count;
         count += entry >> 16;
     }
