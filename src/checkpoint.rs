@@ -323,7 +323,7 @@ impl CheckpointWriter {
         sim: &Simulation,
         history: &PointHistory,
     ) -> Result<()> {
-        if frame == 0 || frame % self.every != 0 {
+        if frame == 0 || !frame.is_multiple_of(self.every) {
             return Ok(());
         }
         let path = self.dir.join(self.key.file_name(frame));

@@ -323,7 +323,7 @@ fn an_elastic_gas_keeps_its_energy_and_no_two_discs_overlap() {
     let mut steps = 0u64;
     let events = run(&s, IntegratorKind::Euler, |sim, _| {
         steps += 1;
-        if steps % s.render.steps_per_frame != 0 {
+        if !steps.is_multiple_of(s.render.steps_per_frame) {
             return;
         }
         frames += 1;

@@ -52,6 +52,9 @@ pub(super) struct Codes {
     pub(super) packed: [u32; 256],
     /// The length of the literal zero's code, whose bits are all zero.
     pub(super) zero_length: u32,
+    /// The literal bytes' codes' low bytes, high bytes and lengths, as tables of bytes
+    /// for `literals::Vector`.
+    pub(super) lanes: [[u8; 256]; 3],
     /// A match of length 3 to 258 at distance 1, length code, extra bits and distance
     /// code together: (bits, count), indexed by length.
     pub(super) run: Vec<(u64, u32)>,
@@ -110,7 +113,7 @@ impl Codes {
         // The word loop leaves zero bytes' codes out of the bits and counts only their
         // lengths: the literal zero must be the first code of the shortest length.
         assert_eq!(literal[0].0, 0, "the literal zero's code is all zero bits");
-        let packed = std::array::from_fn(|b| {
+        let packed: [u32; 256] = std::array::from_fn(|b| {
             let (code, length) = literal[b];
             code as u32 | length << 16
         });
@@ -123,6 +126,7 @@ impl Codes {
             literal,
             packed,
             zero_length: literal[0].1,
+            lanes: [0, 8, 16].map(|shift| packed.map(|p: u32| (p >> shift) as u8)),
             run,
             zeros: Vec::new(),
         };

@@ -2,6 +2,7 @@
 //! Huffman code from `codes.rs`, bit-exact stretches copied from the static rows, and
 //! the PNG chunks around the stream.
 
+use super::literals::{Halves, Literals, Scalar, Vector, BLOCK};
 use super::*;
 
 /// Writes a PNG chunk: length, type, data, CRC-32 of type and data.
@@ -23,6 +24,9 @@ pub(super) struct Deflate<'c> {
     pub(super) n: u32,
     /// Zero bytes seen and not yet written.
     pub(super) run: usize,
+    /// Room for a block's literal codes made ahead of the word loop, when the
+    /// processor can make them (`literals::Vector`); `None` otherwise.
+    halves: Option<Box<Halves>>,
 }
 
 impl<'c> Deflate<'c> {
@@ -33,7 +37,21 @@ impl<'c> Deflate<'c> {
             acc: 0,
             n: 0,
             run: 0,
+            halves: Halves::new(),
         }
+    }
+    /// This writer with busy words' literal codes looked up word by word, as on a
+    /// processor without AVX-512: tests compare both ways.
+    #[cfg(test)]
+    pub(super) fn scalar(mut self) -> Self {
+        self.halves = None;
+        self
+    }
+
+    /// Whether busy words' literal codes are made ahead, a block at a time.
+    #[cfg(test)]
+    pub(super) fn is_vector(&self) -> bool {
+        self.halves.is_some()
     }
 
     /// Appends the low `count` bits of `bits` (count ≤ 64; no higher bit may be set).
@@ -163,14 +181,28 @@ impl<'c> Deflate<'c> {
     /// Nothing in the loop branches on the bytes. The words are taken 64 at a time: a
     /// bit for each nonzero word, then the nonzero words one after the other, the zero
     /// words between them only counted. A nonzero word's first and last nonzero bytes
-    /// come from counting zero bits, every byte's code is looked up, and those outside
-    /// first..=last are masked away (a zero between them stays a literal). Branches on
+    /// come from counting zero bits; its literal codes (first..=last, a zero between
+    /// them staying a literal) come from [`Literals`]: made ahead for the block with
+    /// AVX-512 where the processor has it, looked up word by word otherwise. Branches on
     /// where an anti-aliased edge's words and bytes begin and end, which the processor
     /// mispredicted, took a third of the time of busy rows. The bits are written
     /// through a [`Sink`] held in registers, with room for the most the bytes can take
     /// reserved up front.
     #[inline]
     pub(super) fn bytes_marked<const MARK: bool>(&mut self, data: &[u8]) -> usize {
+        match self.halves.take() {
+            Some(mut halves) => {
+                let mark = self.marked_with::<MARK>(data, Vector::new(self.codes, &mut halves));
+                self.halves = Some(halves);
+                mark
+            }
+            None => self.marked_with::<MARK>(data, Scalar(self.codes)),
+        }
+    }
+
+    /// [`Deflate::bytes_marked`] with busy words' literal codes from `literals`.
+    #[inline(always)]
+    fn marked_with<const MARK: bool>(&mut self, data: &[u8], mut literals: impl Literals) -> usize {
         let mut mark = usize::MAX;
         let mut run = self.run;
         let words = data.len() / 8;
@@ -178,13 +210,19 @@ impl<'c> Deflate<'c> {
             let b = &data[8 * j..8 * j + 8];
             u64::from_le_bytes(b.try_into().unwrap_or_default())
         };
-        let codes = self.codes;
+        // A local slice: through `self.codes` the table's address and length were
+        // loaded again after every write, which might have changed them for all the
+        // compiler knew.
+        let zeros: &[(u64, u32)] = &self.codes.zeros;
         let mut sink = Sink::take(self, SINK_BYTES_PER_WORD * words);
-        for block in (0..words).step_by(64) {
-            let n = (words - block).min(64);
+        for block in (0..words).step_by(BLOCK) {
+            let n = (words - block).min(BLOCK);
             let mut nonzero = 0u64;
             for j in 0..n {
                 nonzero |= u64::from(word_at(block + j) != 0) << j;
+            }
+            if nonzero != 0 {
+                literals.block(&data[8 * block..8 * (block + n)], nonzero);
             }
             let mut next = 0;
             while nonzero != 0 {
@@ -196,7 +234,7 @@ impl<'c> Deflate<'c> {
                 let first = word.trailing_zeros() / 8;
                 let last = 7 - word.leading_zeros() / 8;
                 run += first as usize;
-                let (run_bits, run_count) = match codes.zeros.get(run) {
+                let (run_bits, run_count) = match zeros.get(run) {
                     Some(&(bits, count)) if count <= 56 => (bits, count),
                     // A run too long for one write, rarely met among busy words.
                     _ => {
@@ -210,7 +248,8 @@ impl<'c> Deflate<'c> {
                 if MARK {
                     mark = mark.min(sink.bit_position() + run_count as usize);
                 }
-                sink.word(codes, word, first, last, run_bits, run_count);
+                let (bits, count) = literals.word(j, word, first, last);
+                sink.word(run_bits, run_count, bits, count);
                 run = (7 - last) as usize;
             }
             run += 8 * (n - next);
@@ -248,55 +287,88 @@ impl<'c> Deflate<'c> {
     pub(super) fn bytes_tiles(
         &mut self,
         data: &[u8],
+        tile: impl FnMut(usize, [u64; 4], usize, usize),
+    ) {
+        match self.halves.take() {
+            Some(mut halves) => {
+                self.tiles_with(data, tile, Vector::new(self.codes, &mut halves));
+                self.halves = Some(halves);
+            }
+            None => self.tiles_with(data, tile, Scalar(self.codes)),
+        }
+    }
+
+    /// [`Deflate::bytes_tiles`] with busy words' literal codes from `literals`.
+    #[inline(always)]
+    fn tiles_with(
+        &mut self,
+        data: &[u8],
         mut tile: impl FnMut(usize, [u64; 4], usize, usize),
+        mut literals: impl Literals,
     ) {
         debug_assert_eq!(data.len() % TILE, 0);
         let tiles = data.len() / TILE;
-        let codes = self.codes;
+        // A local slice: through `self.codes` the table's address and length were
+        // loaded again after every write, which might have changed them for all the
+        // compiler knew.
+        let zeros: &[(u64, u32)] = &self.codes.zeros;
         let mut run = self.run;
         let mut sink = Sink::take(self, SINK_BYTES_PER_WORD * 4 * tiles);
-        for (k, bytes) in data.chunks_exact(TILE).enumerate() {
-            let word = |j: usize| {
-                let b = &bytes[8 * j..8 * j + 8];
-                u64::from_le_bytes(b.try_into().unwrap_or_default())
-            };
-            let words = [word(0), word(1), word(2), word(3)];
-            let mut nonzero = 0u32;
-            for (j, w) in words.iter().enumerate() {
-                nonzero |= u32::from(*w != 0) << j;
+        let word_at = |j: usize| {
+            let b = &data[8 * j..8 * j + 8];
+            u64::from_le_bytes(b.try_into().unwrap_or_default())
+        };
+        // Tiles a block of words at a time, for the literal codes.
+        const PER_BLOCK: usize = BLOCK / 4;
+        for group in (0..tiles).step_by(PER_BLOCK) {
+            let m = (tiles - group).min(PER_BLOCK);
+            let mut nonzero = 0u64;
+            for j in 0..4 * m {
+                nonzero |= u64::from(word_at(4 * group + j) != 0) << j;
             }
             if nonzero == 0 {
-                run += TILE;
+                run += m * TILE;
                 continue;
             }
-            let mut start = usize::MAX;
-            let mut next = 0;
-            while nonzero != 0 {
-                let j = nonzero.trailing_zeros() as usize;
-                nonzero &= nonzero - 1;
-                run += 8 * (j - next);
-                next = j + 1;
-                let word = words[j];
-                let first = word.trailing_zeros() / 8;
-                let last = 7 - word.leading_zeros() / 8;
-                run += first as usize;
-                let (run_bits, run_count) = match codes.zeros.get(run) {
-                    Some(&(bits, count)) if count <= 56 => (bits, count),
-                    // A run too long for one write (the zeros of a clean span before).
-                    _ => {
-                        sink.give(self);
-                        self.run = run;
-                        self.flush_run();
-                        sink = Sink::take(self, SINK_BYTES_PER_WORD * 4 * (tiles - k));
-                        (0, 0)
-                    }
-                };
-                start = start.min(sink.bit_position() + run_count as usize);
-                sink.word(codes, word, first, last, run_bits, run_count);
-                run = (7 - last) as usize;
+            literals.block(&data[group * TILE..(group + m) * TILE], nonzero);
+            for t in 0..m {
+                let k = group + t;
+                let words = std::array::from_fn(|j| word_at(4 * k + j));
+                let mut nonzero = (nonzero >> (4 * t)) & 0xf;
+                if nonzero == 0 {
+                    run += TILE;
+                    continue;
+                }
+                let mut start = usize::MAX;
+                let mut next = 0;
+                while nonzero != 0 {
+                    let j = nonzero.trailing_zeros() as usize;
+                    nonzero &= nonzero - 1;
+                    run += 8 * (j - next);
+                    next = j + 1;
+                    let word = words[j];
+                    let first = word.trailing_zeros() / 8;
+                    let last = 7 - word.leading_zeros() / 8;
+                    run += first as usize;
+                    let (run_bits, run_count) = match zeros.get(run) {
+                        Some(&(bits, count)) if count <= 56 => (bits, count),
+                        // A run too long for one write (the zeros of a clean span before).
+                        _ => {
+                            sink.give(self);
+                            self.run = run;
+                            self.flush_run();
+                            sink = Sink::take(self, SINK_BYTES_PER_WORD * 4 * (tiles - k));
+                            (0, 0)
+                        }
+                    };
+                    start = start.min(sink.bit_position() + run_count as usize);
+                    let (bits, count) = literals.word(4 * t + j, word, first, last);
+                    sink.word(run_bits, run_count, bits, count);
+                    run = (7 - last) as usize;
+                }
+                run += 8 * (4 - next);
+                tile(k, words, start, sink.bit_position());
             }
-            run += 8 * (4 - next);
-            tile(k, words, start, sink.bit_position());
         }
         sink.give(self);
         self.run = run;
@@ -441,54 +513,17 @@ impl Sink {
         self.n = n - 8 * whole;
     }
 
-    /// Appends a run's code (`run_count` ≤ 56 bits) and then the codes of the bytes
-    /// first..=last of `word`, in one write when together they take at most 120 bits
+    /// Appends a run's code (`run_count` ≤ 56 bits) and then a word's literal codes
+    /// (`count` ≤ 112 bits), in one write when together they take at most 120 bits
     /// (nearly always: seven literals of 9 bits and a run of a thousand zeros), in two
     /// otherwise.
-    ///
-    /// The literal zero's code is all zero bits (`Codes::new` asserts it), so a zero
-    /// byte adds nothing to the bits, only its length. So the word is shifted down to
-    /// its first nonzero byte, all eight bytes' codes are put together unmasked, and
-    /// the zeros shifted in above the last nonzero byte are taken off the count.
     #[inline(always)]
-    fn word(
-        &mut self,
-        codes: &Codes,
-        word: u64,
-        first: u32,
-        last: u32,
-        run_bits: u64,
-        run_count: u32,
-    ) {
-        let shifted = word >> (8 * first);
-        let (low, low_count) = half(&codes.packed, shifted);
-        let (high, high_count) = half(&codes.packed, shifted >> 32);
-        // The zeros after the last literal: bits of nothing, lengths to take off.
-        let after = 7 - (last - first);
-        // Literals: low then high, at most 112 bits. When the last literal lies in the
-        // low half, `high` is all zeros and its place does not matter.
-        let literals = u128::from(low) | u128::from(high) << low_count;
-        let literal_count = low_count + high_count - codes.zero_length * after;
-        let count = run_count + literal_count;
-        if count <= 120 {
-            self.emit_wide(u128::from(run_bits) | literals << run_count, count);
+    fn word(&mut self, run_bits: u64, run_count: u32, bits: u128, count: u32) {
+        if run_count + count <= 120 {
+            self.emit_wide(u128::from(run_bits) | bits << run_count, run_count + count);
         } else {
             self.emit(run_bits, run_count);
-            self.emit_wide(literals, literal_count);
+            self.emit_wide(bits, count);
         }
     }
-}
-
-/// The codes of the low four bytes of `word`, one after the other, and their length
-/// (at most 4 · 14 = 56 bits, as [`Sink::emit`] takes), from `packed` (each code in the
-/// low 16 bits of its entry, its length above).
-#[inline(always)]
-fn half(packed: &[u32; 256], word: u64) -> (u64, u32) {
-    let (mut bits, mut count) = (0u64, 0u32);
-    for i in 0..4 {
-        let entry = packed[((word >> (8 * i)) & 0xff) as usize];
-        bits |= u64::from(entry & 0xffff) << count;
-        count += entry >> 16;
-    }
-    (bits, count)
 }

@@ -42,6 +42,7 @@ mod codes;
 mod deflate;
 mod frame;
 mod incremental;
+mod literals;
 mod static_rows;
 
 pub use frame::next_bit;

@@ -410,22 +410,52 @@ fn the_word_loop_writes_the_bits_of_its_definition() {
         }
         data.truncate(len);
         let (pending, run) = (random(8) as u32, random(300) as usize);
-        let mut quick = Deflate::new(codes, vec![0x5a; case % 13]);
-        let mut reference = Deflate::new(codes, vec![0x5a; case % 13]);
-        for w in [&mut quick, &mut reference] {
+        let start = |w: &mut Deflate<'_>| {
             w.put((1 << pending) - 1, pending);
             w.run = run;
-        }
-        let marks = (
-            quick.bytes_marked::<true>(&data),
-            bytes_by_definition(&mut reference, &data),
-        );
-        assert_eq!(marks.0, marks.1, "case {case}: where the literals start");
-        assert_eq!(quick.run, reference.run, "case {case}: the run left");
-        quick.flush_run();
+        };
+        let mut reference = Deflate::new(codes, vec![0x5a; case % 13]);
+        start(&mut reference);
+        let expected_mark = bytes_by_definition(&mut reference, &data);
+        let expected_run = reference.run;
         reference.flush_run();
-        assert_eq!(quick.into_bits(), reference.into_bits(), "case {case}");
+        let expected = reference.into_bits();
+        // Literal codes made ahead a block at a time (where the processor can), and
+        // looked up word by word.
+        for mut quick in [
+            Deflate::new(codes, vec![0x5a; case % 13]),
+            Deflate::new(codes, vec![0x5a; case % 13]).scalar(),
+        ] {
+            let way = if quick.is_vector() {
+                "ahead"
+            } else {
+                "word by word"
+            };
+            start(&mut quick);
+            let mark = quick.bytes_marked::<true>(&data);
+            assert_eq!(
+                mark, expected_mark,
+                "case {case}, {way}: where the literals start"
+            );
+            assert_eq!(quick.run, expected_run, "case {case}, {way}: the run left");
+            quick.flush_run();
+            assert_eq!(quick.into_bits(), expected, "case {case}, {way}");
+        }
     }
+}
+
+#[test]
+fn literal_codes_are_made_ahead_wherever_the_processor_can() {
+    // The word loop's test above compares the two ways only where both exist: on a
+    // processor with AVX-512 VBMI (x86-64 v4 and Zen 4 on), the writer must use it.
+    #[cfg(target_arch = "x86_64")]
+    {
+        let can = is_x86_feature_detected!("avx512f")
+            && is_x86_feature_detected!("avx512bw")
+            && is_x86_feature_detected!("avx512vbmi");
+        assert_eq!(Deflate::new(codes(), Vec::new()).is_vector(), can);
+    }
+    assert!(!Deflate::new(codes(), Vec::new()).scalar().is_vector());
 }
 
 #[test]
@@ -458,34 +488,39 @@ fn tiles_in_one_stretch_are_the_tiles_one_by_one() {
         }
         let pending = random(8) as u32;
         let run = [random(40), random(300), 2000 + random(8000)][case % 3] as usize;
-        let mut quick = Deflate::new(codes, vec![0x5a; case % 13]);
-        let mut reference = Deflate::new(codes, vec![0x5a; case % 13]);
-        for w in [&mut quick, &mut reference] {
-            w.put((1 << pending) - 1, pending);
-            w.run = run;
-        }
-        let mut marks = Vec::new();
-        quick.bytes_tiles(&data, |k, words, start, end| {
-            let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
-            assert_eq!(
-                bytes,
-                data[k * TILE..(k + 1) * TILE],
-                "case {case}, tile {k}"
-            );
-            marks.push((k, start, end));
-        });
-        let mut expected = Vec::new();
-        for (k, tile) in data.chunks_exact(TILE).enumerate() {
-            let start = reference.bytes_marked::<true>(tile);
-            if start != usize::MAX {
-                expected.push((k, start, reference.bit_position()));
+        // Literal codes made ahead a block at a time (where the processor can), and
+        // looked up word by word; the reference looks them up word by word.
+        let quick = Deflate::new(codes, vec![0x5a; case % 13]);
+        let scalar = Deflate::new(codes, vec![0x5a; case % 13]).scalar();
+        for mut quick in [quick, scalar] {
+            let mut reference = Deflate::new(codes, vec![0x5a; case % 13]).scalar();
+            for w in [&mut quick, &mut reference] {
+                w.put((1 << pending) - 1, pending);
+                w.run = run;
             }
+            let mut marks = Vec::new();
+            quick.bytes_tiles(&data, |k, words, start, end| {
+                let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
+                assert_eq!(
+                    bytes,
+                    data[k * TILE..(k + 1) * TILE],
+                    "case {case}, tile {k}"
+                );
+                marks.push((k, start, end));
+            });
+            let mut expected = Vec::new();
+            for (k, tile) in data.chunks_exact(TILE).enumerate() {
+                let start = reference.bytes_marked::<true>(tile);
+                if start != usize::MAX {
+                    expected.push((k, start, reference.bit_position()));
+                }
+            }
+            assert_eq!(marks, expected, "case {case}: the tiles' marks");
+            assert_eq!(quick.run, reference.run, "case {case}: the run left");
+            quick.flush_run();
+            reference.flush_run();
+            assert_eq!(quick.into_bits(), reference.into_bits(), "case {case}");
         }
-        assert_eq!(marks, expected, "case {case}: the tiles' marks");
-        assert_eq!(quick.run, reference.run, "case {case}: the run left");
-        quick.flush_run();
-        reference.flush_run();
-        assert_eq!(quick.into_bits(), reference.into_bits(), "case {case}");
     }
 }
 

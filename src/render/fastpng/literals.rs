@@ -1,0 +1,270 @@
+//! The literal codes of a busy word: the codes of its bytes from its first nonzero
+//! byte to its last, one after the other, as the word loops of `deflate.rs` write them.
+//!
+//! Two ways give the same bits. [`Scalar`] looks up the word's eight codes when the
+//! word loop reaches it. [`Vector`] (AVX-512 with VBMI) does it ahead of the loop for a
+//! block of 64 words, eight words per 512-bit register: the codes and lengths of 64
+//! bytes are three table lookups, the lengths outside each word's first..=last nonzero
+//! byte are masked to zero, and the codes are put together in place, pairs of bytes in
+//! 32-bit lanes, then fours in 64-bit lanes. The word loop then reads two halves and
+//! their lengths per word. Looking up and shifting eight codes one by one was about 70
+//! instructions per busy word, two thirds of the coder's time on frames full of
+//! anti-aliased edges (arrows, trails); see docs/performance.md.
+
+use super::codes::Codes;
+
+/// Words per block: the word loops find a block's nonzero words as one 64-bit mask.
+pub(super) const BLOCK: usize = 64;
+
+/// Where the word loops get a busy word's literal codes.
+pub(super) trait Literals {
+    /// Called before the word loop visits a block's words: `data` holds its whole
+    /// words (at most [`BLOCK`]), `nonzero` has bit j set when word j is not zero.
+    fn block(&mut self, data: &[u8], nonzero: u64);
+
+    /// The codes of bytes first..=last of word j of the block (`word`, nonzero, with
+    /// first and last its first and last nonzero bytes), least significant first, and
+    /// how many bits they take (at most 8 · 14 = 112).
+    fn word(&self, j: usize, word: u64, first: u32, last: u32) -> (u128, u32);
+}
+
+/// Literal codes looked up one by one when the word loop reaches a word.
+pub(super) struct Scalar<'c>(pub(super) &'c Codes);
+
+impl Literals for Scalar<'_> {
+    #[inline(always)]
+    fn block(&mut self, _data: &[u8], _nonzero: u64) {}
+
+    /// The literal zero's code is all zero bits (`Codes::new` asserts it), so a zero
+    /// byte adds nothing to the bits, only its length. So the word is shifted down to
+    /// its first nonzero byte, all eight bytes' codes are put together unmasked, and
+    /// the lengths of the zeros shifted in above the last nonzero byte are taken off.
+    #[inline(always)]
+    fn word(&self, _j: usize, word: u64, first: u32, last: u32) -> (u128, u32) {
+        let shifted = word >> (8 * first);
+        let (low, low_count) = half(&self.0.packed, shifted);
+        let (high, high_count) = half(&self.0.packed, shifted >> 32);
+        // The zeros after the last literal: bits of nothing, lengths to take off.
+        let after = 7 - (last - first);
+        // Low then high. When the last literal lies in the low half, `high` is all
+        // zeros and its place does not matter.
+        let bits = u128::from(low) | u128::from(high) << low_count;
+        (bits, low_count + high_count - self.0.zero_length * after)
+    }
+}
+
+/// The codes of the low four bytes of `word`, one after the other, and their length
+/// (at most 4 · 14 = 56 bits), from `packed` (each code in the low 16 bits of its
+/// entry, its length above).
+#[inline(always)]
+pub(super) fn half(packed: &[u32; 256], word: u64) -> (u64, u32) {
+    let (mut bits, mut count) = (0u64, 0u32);
+    for i in 0..4 {
+        let entry = packed[((word >> (8 * i)) & 0xff) as usize];
+        bits |= u64::from(entry & 0xffff) << count;
+        count += entry >> 16;
+    }
+    (bits, count)
+}
+
+/// A block's literal codes, made ahead of the word loop: word j's low half (bytes 0
+/// to 3, each byte before its first nonzero one or after its last taking no bits) in
+/// `bits[2j]` with its length in `counts[2j]`, its high half at `2j + 1`. Entries of
+/// zero words are left as they were.
+pub(super) struct Halves {
+    bits: [u64; 2 * BLOCK],
+    counts: [u64; 2 * BLOCK],
+}
+
+impl Halves {
+    /// Room for a block's halves when this processor can make them (AVX-512 with
+    /// VBMI), `None` otherwise.
+    pub(super) fn new() -> Option<Box<Halves>> {
+        #[cfg(target_arch = "x86_64")]
+        if avx512::available() {
+            return Some(Box::new(Halves {
+                bits: [0; 2 * BLOCK],
+                counts: [0; 2 * BLOCK],
+            }));
+        }
+        None
+    }
+}
+
+/// Literal codes made ahead of the word loop, a block at a time (see [`Halves`]).
+pub(super) struct Vector<'a> {
+    codes: &'a Codes,
+    halves: &'a mut Halves,
+}
+
+impl<'a> Vector<'a> {
+    /// `halves` comes from [`Halves::new`], so the processor has what
+    /// [`Literals::block`] needs.
+    pub(super) fn new(codes: &'a Codes, halves: &'a mut Halves) -> Self {
+        Vector { codes, halves }
+    }
+}
+
+impl Literals for Vector<'_> {
+    #[inline(always)]
+    fn block(&mut self, data: &[u8], nonzero: u64) {
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: a `Halves` is only made when `avx512::available()`.
+        unsafe {
+            avx512::fill(&self.codes.lanes, data, nonzero, self.halves);
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        unreachable!("no `Halves` is made without AVX-512: {data:?} {nonzero}");
+    }
+
+    #[inline(always)]
+    fn word(&self, j: usize, _word: u64, _first: u32, _last: u32) -> (u128, u32) {
+        let (low, high) = (self.halves.bits[2 * j], self.halves.bits[2 * j + 1]);
+        let (low_count, high_count) = (self.halves.counts[2 * j], self.halves.counts[2 * j + 1]);
+        let bits = u128::from(low) | u128::from(high) << low_count;
+        (bits, (low_count + high_count) as u32)
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+mod avx512 {
+    use std::arch::x86_64::*;
+
+    use super::{Halves, BLOCK};
+
+    /// Returns true when the processor has what [`fill`] uses (checked once, then
+    /// cached by the standard library).
+    pub(super) fn available() -> bool {
+        is_x86_feature_detected!("avx512f")
+            && is_x86_feature_detected!("avx512bw")
+            && is_x86_feature_detected!("avx512vbmi")
+    }
+
+    /// A 256-entry byte table in four registers.
+    type Table = [__m512i; 4];
+
+    /// Loads a 256-entry byte table.
+    #[inline]
+    #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
+    fn table(bytes: &[u8; 256]) -> Table {
+        // SAFETY: each load reads 64 of the table's 256 bytes.
+        std::array::from_fn(|k| unsafe { _mm512_loadu_si512(bytes[64 * k..].as_ptr().cast()) })
+    }
+
+    /// `table[v]` in every byte: bits 0 to 6 of the index choose among 128 bytes of a
+    /// pair of registers, bit 7 which pair.
+    #[inline]
+    #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
+    fn lookup(t: &Table, v: __m512i) -> __m512i {
+        let low = _mm512_permutex2var_epi8(t[0], v, t[1]);
+        let high = _mm512_permutex2var_epi8(t[2], v, t[3]);
+        _mm512_mask_blend_epi8(_mm512_movepi8_mask(v), low, high)
+    }
+
+    /// Bits from the lowest set bit of each byte of `x` to its highest.
+    #[inline]
+    fn between(x: u64) -> u64 {
+        let (mut up, mut down) = (x, x);
+        for (shift, mask) in [(1, 0xfe), (2, 0xfc), (4, 0xf0)] {
+            let mask = 0x0101_0101_0101_0101u64 * mask;
+            up |= (up << shift) & mask;
+            down |= (down >> shift) & (mask >> shift);
+        }
+        up & down
+    }
+
+    /// Each 64-bit lane's two 32-bit codes `c0` (low) and `c1` (high), with their
+    /// lengths `l0` and `l1` in the same places of `lengths`, put together:
+    /// c0 | c1 << l0 in the lane, and l0 + l1 in the lengths' lane. The same a level
+    /// down, for 16-bit codes in 32-bit lanes, is [`pairs`].
+    #[inline]
+    #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
+    fn fours(codes: __m512i, lengths: __m512i) -> (__m512i, __m512i) {
+        let low = _mm512_set1_epi64(0xffff_ffff);
+        let l0 = _mm512_and_si512(lengths, low);
+        let c1 = _mm512_srli_epi64::<32>(codes);
+        let bits = _mm512_or_si512(_mm512_and_si512(codes, low), _mm512_sllv_epi64(c1, l0));
+        (bits, _mm512_add_epi64(l0, _mm512_srli_epi64::<32>(lengths)))
+    }
+
+    /// Each 32-bit lane's two 16-bit codes put together as [`fours`] does a level up.
+    #[inline]
+    #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
+    fn pairs(codes: __m512i, lengths: __m512i) -> (__m512i, __m512i) {
+        let low = _mm512_set1_epi32(0xffff);
+        let l0 = _mm512_and_si512(lengths, low);
+        let c1 = _mm512_srli_epi32::<16>(codes);
+        let bits = _mm512_or_si512(_mm512_and_si512(codes, low), _mm512_sllv_epi32(c1, l0));
+        // l0 + l1 in every 32-bit lane.
+        (bits, _mm512_madd_epi16(lengths, _mm512_set1_epi16(1)))
+    }
+
+    /// Makes the halves of the nonzero words of a block, eight words at a time (see
+    /// [`Halves`]). `lanes` holds the literal codes' low bytes, high bytes and lengths.
+    ///
+    /// # Safety
+    /// The processor must have AVX-512 F, BW and VBMI ([`available`]).
+    #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
+    pub(super) unsafe fn fill(lanes: &[[u8; 256]; 3], data: &[u8], nonzero: u64, out: &mut Halves) {
+        let words = data.len() / 8;
+        debug_assert!(words <= BLOCK);
+        let [code_low, code_high, length] = lanes.each_ref().map(|t| table(t));
+        // The halves of words 0, 2, 4, 6 come out in one register and those of 1, 3,
+        // 5, 7 in the other; these take them into order.
+        let first = _mm512_setr_epi64(0, 1, 8, 9, 2, 3, 10, 11);
+        let second = _mm512_setr_epi64(4, 5, 12, 13, 6, 7, 14, 15);
+        for chunk in 0..words.div_ceil(8) {
+            if (nonzero >> (8 * chunk)) & 0xff == 0 {
+                continue;
+            }
+            let bytes = &data[64 * chunk..data.len().min(64 * chunk + 64)];
+            let v = if bytes.len() == 64 {
+                // SAFETY: the 64 bytes lie in `bytes`.
+                unsafe { _mm512_loadu_si512(bytes.as_ptr().cast()) }
+            } else {
+                let mut padded = [0u8; 64];
+                padded[..bytes.len()].copy_from_slice(bytes);
+                // SAFETY: the 64 bytes lie in `padded`.
+                unsafe { _mm512_loadu_si512(padded.as_ptr().cast()) }
+            };
+            // Each byte's code and length; a byte outside its word's first..=last
+            // nonzero byte is a zero, whose code is all zero bits, and takes no bits.
+            let keep = between(_mm512_test_epi8_mask(v, v));
+            let (low, high) = (lookup(&code_low, v), lookup(&code_high, v));
+            let lengths = _mm512_maskz_mov_epi8(keep, lookup(&length, v));
+            // 16-bit codes and lengths: the even words' bytes (the low half of each
+            // 128-bit lane) in one register, the odd words' in the other.
+            let zero = _mm512_setzero_si512();
+            let even = pairs(
+                _mm512_unpacklo_epi8(low, high),
+                _mm512_unpacklo_epi8(lengths, zero),
+            );
+            let odd = pairs(
+                _mm512_unpackhi_epi8(low, high),
+                _mm512_unpackhi_epi8(lengths, zero),
+            );
+            let (even, odd) = (fours(even.0, even.1), fours(odd.0, odd.1));
+            let at = 16 * chunk;
+            let (bits, counts) = (&mut out.bits[at..at + 16], &mut out.counts[at..at + 16]);
+            // SAFETY: each store writes 8 of the 16 words just taken from the arrays.
+            unsafe {
+                _mm512_storeu_si512(
+                    bits.as_mut_ptr().cast(),
+                    _mm512_permutex2var_epi64(even.0, first, odd.0),
+                );
+                _mm512_storeu_si512(
+                    bits[8..].as_mut_ptr().cast(),
+                    _mm512_permutex2var_epi64(even.0, second, odd.0),
+                );
+                _mm512_storeu_si512(
+                    counts.as_mut_ptr().cast(),
+                    _mm512_permutex2var_epi64(even.1, first, odd.1),
+                );
+                _mm512_storeu_si512(
+                    counts[8..].as_mut_ptr().cast(),
+                    _mm512_permutex2var_epi64(even.1, second, odd.1),
+                );
+            }
+        }
+    }
+}
