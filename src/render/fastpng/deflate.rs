@@ -48,6 +48,14 @@ impl<'c> Deflate<'c> {
         self
     }
 
+    /// Appends a run's code and a word's literal codes as the word loops do.
+    #[cfg(test)]
+    pub(super) fn word(&mut self, run_bits: u64, run_count: u32, bits: u128, count: u32) {
+        let mut sink = Sink::take(self, SINK_BYTES_PER_WORD);
+        sink.word(run_bits, run_count, bits, count);
+        sink.give(self);
+    }
+
     /// Whether busy words' literal codes are made ahead, a block at a time.
     #[cfg(test)]
     pub(super) fn is_vector(&self) -> bool {
@@ -514,16 +522,48 @@ impl Sink {
     }
 
     /// Appends a run's code (`run_count` ≤ 56 bits) and then a word's literal codes
-    /// (`count` ≤ 112 bits), in one write when together they take at most 120 bits
-    /// (nearly always: seven literals of 9 bits and a run of a thousand zeros), in two
-    /// otherwise.
+    /// (`count` ≤ 112 bits), in one write of two 64-bit words when the pending bits,
+    /// the run's and the literals' take at most 127 bits (nearly always: seven
+    /// literals of 9 bits and a run of a thousand zeros), in two writes otherwise.
+    ///
+    /// The pending bits and the run's code make one head of m ≤ 63 bits; the literals
+    /// go above it, shifted by m. A run written through [`Deflate::flush_run`] comes as
+    /// an empty code.
     #[inline(always)]
     fn word(&mut self, run_bits: u64, run_count: u32, bits: u128, count: u32) {
-        if run_count + count <= 120 {
-            self.emit_wide(u128::from(run_bits) | bits << run_count, run_count + count);
-        } else {
+        debug_assert!(run_count <= 56 && count <= 112 && bits >> count == 0);
+        let m = self.n + run_count;
+        let total = m + count;
+        // Up to 127 bits: byte `total / 8` of the two words is then within them.
+        if total >= 128 {
             self.emit(run_bits, run_count);
             self.emit_wide(bits, count);
+            return;
         }
+        let head = self.acc | run_bits << self.n;
+        let (low, high) = (bits as u64, (bits >> 64) as u64);
+        // (head, low, high) as a 192-bit number, m bits of head, its low 128 bits: the
+        // rest is zero, as total < 128. `low >> 1 >> (63 - m)` is low >> (64 - m),
+        // defined for m = 0 as well.
+        let first = head | low << m;
+        let second = (low >> 1 >> (63 - m)) | high << m;
+        assert!(self.len + 16 <= self.room, "the sink's room was reserved");
+        // SAFETY: the sixteen bytes at `len` lie within the capacity (asserted).
+        unsafe {
+            let at = self.ptr.add(self.len);
+            at.cast::<[u8; 8]>().write_unaligned(first.to_le_bytes());
+            at.add(8)
+                .cast::<[u8; 8]>()
+                .write_unaligned(second.to_le_bytes());
+        }
+        let whole = total / 8;
+        self.len += whole as usize;
+        // The pending bits are byte `whole` of the two words, with nothing above.
+        self.acc = if whole < 8 {
+            first >> (8 * whole)
+        } else {
+            second >> (8 * (whole - 8))
+        };
+        self.n = total % 8;
     }
 }

@@ -445,6 +445,46 @@ fn the_word_loop_writes_the_bits_of_its_definition() {
 }
 
 #[test]
+fn a_words_one_write_is_its_bits_one_by_one() {
+    // Every number of pending bits, run codes of 0 to 56 bits and literals of 0 to
+    // 112, so that together they take from 0 bits to past 128 (the two-write path),
+    // 127 and 128 among them.
+    let codes = codes();
+    let mut random = xorshift(0x1234_5678_9abc_def1);
+    let mut bits_of = |count: u32| -> u128 {
+        let value = u128::from(random(u64::MAX)) | u128::from(random(u64::MAX)) << 64;
+        if count == 0 {
+            0
+        } else {
+            value >> (128 - count)
+        }
+    };
+    for pending in 0..8u32 {
+        for run_count in [0, 1, 7, 8, 20, 33, 55, 56] {
+            for count in (0..=112).step_by(1) {
+                let run_bits = bits_of(run_count) as u64;
+                let literals = bits_of(count);
+                let mut quick = Deflate::new(codes, vec![0xa5; 3]);
+                let mut reference = Deflate::new(codes, vec![0xa5; 3]);
+                for w in [&mut quick, &mut reference] {
+                    w.put((1 << pending) - 1, pending);
+                }
+                quick.word(run_bits, run_count, literals, count);
+                reference.put(run_bits, run_count);
+                for i in 0..count {
+                    reference.put((literals >> i) as u64 & 1, 1);
+                }
+                let what = format!("{pending} pending, run of {run_count} bits, {count} bits");
+                assert_eq!(quick.bit_position(), reference.bit_position(), "{what}");
+                quick.put(1, 1);
+                reference.put(1, 1);
+                assert_eq!(quick.into_bits(), reference.into_bits(), "{what}");
+            }
+        }
+    }
+}
+
+#[test]
 fn literal_codes_are_made_ahead_wherever_the_processor_can() {
     // The word loop's test above compares the two ways only where both exist: on a
     // processor with AVX-512 VBMI (x86-64 v4 and Zen 4 on), the writer must use it.
