@@ -121,8 +121,14 @@ impl Literals for Vector<'_> {
     fn word(&self, j: usize, _word: u64, _first: u32, _last: u32) -> (u128, u32) {
         let (low, high) = (self.halves.bits[2 * j], self.halves.bits[2 * j + 1]);
         let (low_count, high_count) = (self.halves.counts[2 * j], self.halves.counts[2 * j + 1]);
-        let bits = u128::from(low) | u128::from(high) << low_count;
-        (bits, (low_count + high_count) as u32)
+        // low | high << low_count as two words; low_count ≤ 56, and
+        // `high >> 1 >> (63 - low_count)` is high >> (64 - low_count), also for 0.
+        let first = low | high << low_count;
+        let second = high >> 1 >> (63 - low_count);
+        (
+            u128::from(first) | u128::from(second) << 64,
+            (low_count + high_count) as u32,
+        )
     }
 }
 
