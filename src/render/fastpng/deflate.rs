@@ -225,13 +225,7 @@ impl<'c> Deflate<'c> {
         let mut sink = Sink::take(self, SINK_BYTES_PER_WORD * words);
         for block in (0..words).step_by(BLOCK) {
             let n = (words - block).min(BLOCK);
-            let mut nonzero = 0u64;
-            for j in 0..n {
-                nonzero |= u64::from(word_at(block + j) != 0) << j;
-            }
-            if nonzero != 0 {
-                literals.block(&data[8 * block..8 * (block + n)], nonzero);
-            }
+            let mut nonzero = literals.block(&data[8 * block..8 * (block + n)]);
             let mut next = 0;
             while nonzero != 0 {
                 let j = nonzero.trailing_zeros() as usize;
@@ -330,15 +324,11 @@ impl<'c> Deflate<'c> {
         const PER_BLOCK: usize = BLOCK / 4;
         for group in (0..tiles).step_by(PER_BLOCK) {
             let m = (tiles - group).min(PER_BLOCK);
-            let mut nonzero = 0u64;
-            for j in 0..4 * m {
-                nonzero |= u64::from(word_at(4 * group + j) != 0) << j;
-            }
+            let nonzero = literals.block(&data[group * TILE..(group + m) * TILE]);
             if nonzero == 0 {
                 run += m * TILE;
                 continue;
             }
-            literals.block(&data[group * TILE..(group + m) * TILE], nonzero);
             for t in 0..m {
                 let k = group + t;
                 let words = std::array::from_fn(|j| word_at(4 * k + j));

@@ -19,8 +19,9 @@ pub(super) const BLOCK: usize = 64;
 /// Where the word loops get a busy word's literal codes.
 pub(super) trait Literals {
     /// Called before the word loop visits a block's words: `data` holds its whole
-    /// words (at most [`BLOCK`]), `nonzero` has bit j set when word j is not zero.
-    fn block(&mut self, data: &[u8], nonzero: u64);
+    /// words (at most [`BLOCK`]). Returns the block's nonzero words, bit j set when
+    /// word j is not zero.
+    fn block(&mut self, data: &[u8]) -> u64;
 
     /// The codes of bytes first..=last of word j of the block (`word`, nonzero, with
     /// first and last its first and last nonzero bytes), least significant first, and
@@ -33,7 +34,13 @@ pub(super) struct Scalar<'c>(pub(super) &'c Codes);
 
 impl Literals for Scalar<'_> {
     #[inline(always)]
-    fn block(&mut self, _data: &[u8], _nonzero: u64) {}
+    fn block(&mut self, data: &[u8]) -> u64 {
+        let mut nonzero = 0u64;
+        for (j, word) in data.chunks_exact(8).enumerate() {
+            nonzero |= u64::from(word.iter().any(|b| *b != 0)) << j;
+        }
+        nonzero
+    }
 
     /// The literal zero's code is all zero bits (`Codes::new` asserts it), so a zero
     /// byte adds nothing to the bits, only its length. So the word is shifted down to
@@ -107,14 +114,14 @@ impl<'a> Vector<'a> {
 
 impl Literals for Vector<'_> {
     #[inline(always)]
-    fn block(&mut self, data: &[u8], nonzero: u64) {
+    fn block(&mut self, data: &[u8]) -> u64 {
         #[cfg(target_arch = "x86_64")]
         // SAFETY: a `Halves` is only made when `avx512::available()`.
         unsafe {
-            avx512::fill(&self.codes.lanes, data, nonzero, self.halves);
+            avx512::fill(&self.codes.lanes, data, self.halves)
         }
         #[cfg(not(target_arch = "x86_64"))]
-        unreachable!("no `Halves` is made without AVX-512: {data:?} {nonzero}");
+        unreachable!("no `Halves` is made without AVX-512: {data:?}");
     }
 
     #[inline(always)]
@@ -206,12 +213,13 @@ mod avx512 {
     }
 
     /// Makes the halves of the nonzero words of a block, eight words at a time (see
-    /// [`Halves`]). `lanes` holds the literal codes' low bytes, high bytes and lengths.
+    /// [`Halves`]), and returns the block's nonzero words as a mask. `lanes` holds the
+    /// literal codes' low bytes, high bytes and lengths.
     ///
     /// # Safety
     /// The processor must have AVX-512 F, BW and VBMI ([`available`]).
     #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
-    pub(super) unsafe fn fill(lanes: &[[u8; 256]; 3], data: &[u8], nonzero: u64, out: &mut Halves) {
+    pub(super) unsafe fn fill(lanes: &[[u8; 256]; 3], data: &[u8], out: &mut Halves) -> u64 {
         let words = data.len() / 8;
         debug_assert!(words <= BLOCK);
         let [code_low, code_high, length] = lanes.each_ref().map(|t| table(t));
@@ -219,10 +227,8 @@ mod avx512 {
         // 5, 7 in the other; these take them into order.
         let first = _mm512_setr_epi64(0, 1, 8, 9, 2, 3, 10, 11);
         let second = _mm512_setr_epi64(4, 5, 12, 13, 6, 7, 14, 15);
+        let mut nonzero = 0u64;
         for chunk in 0..words.div_ceil(8) {
-            if (nonzero >> (8 * chunk)) & 0xff == 0 {
-                continue;
-            }
             let bytes = &data[64 * chunk..data.len().min(64 * chunk + 64)];
             let v = if bytes.len() == 64 {
                 // SAFETY: the 64 bytes lie in `bytes`.
@@ -233,6 +239,11 @@ mod avx512 {
                 // SAFETY: the 64 bytes lie in `padded`.
                 unsafe { _mm512_loadu_si512(padded.as_ptr().cast()) }
             };
+            let busy = _mm512_test_epi64_mask(v, v);
+            if busy == 0 {
+                continue;
+            }
+            nonzero |= u64::from(busy) << (8 * chunk);
             // Each byte's code and length; a byte outside its word's first..=last
             // nonzero byte is a zero, whose code is all zero bits, and takes no bits.
             let keep = between(_mm512_test_epi8_mask(v, v));
@@ -272,5 +283,6 @@ mod avx512 {
                 );
             }
         }
+        nonzero
     }
 }
