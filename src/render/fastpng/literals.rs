@@ -230,15 +230,11 @@ mod avx512 {
         let mut nonzero = 0u64;
         for chunk in 0..words.div_ceil(8) {
             let bytes = &data[64 * chunk..data.len().min(64 * chunk + 64)];
-            let v = if bytes.len() == 64 {
-                // SAFETY: the 64 bytes lie in `bytes`.
-                unsafe { _mm512_loadu_si512(bytes.as_ptr().cast()) }
-            } else {
-                let mut padded = [0u8; 64];
-                padded[..bytes.len()].copy_from_slice(bytes);
-                // SAFETY: the 64 bytes lie in `padded`.
-                unsafe { _mm512_loadu_si512(padded.as_ptr().cast()) }
-            };
+            // The chunk's bytes, zeros past the data's end (a short last chunk).
+            let within = u64::MAX >> (64 - bytes.len());
+            // SAFETY: a masked load reads only the bytes its mask selects, which lie in
+            // `bytes`; the others are neither read nor able to fault.
+            let v = unsafe { _mm512_maskz_loadu_epi8(within, bytes.as_ptr().cast()) };
             let busy = _mm512_test_epi64_mask(v, v);
             if busy == 0 {
                 continue;
