@@ -200,7 +200,8 @@ impl<'c> Deflate<'c> {
     pub(super) fn bytes_marked<const MARK: bool>(&mut self, data: &[u8]) -> usize {
         match self.halves.take() {
             Some(mut halves) => {
-                let mark = self.marked_with::<MARK>(data, Vector::new(self.codes, &mut halves));
+                let literals = Vector::<false>::new(self.codes, &mut halves);
+                let mark = self.marked_with::<MARK>(data, literals);
                 self.halves = Some(halves);
                 mark
             }
@@ -274,9 +275,10 @@ impl<'c> Deflate<'c> {
     }
 
     /// Compresses whole tiles of [`TILE`] bytes as [`Deflate::bytes`] does (the same
-    /// bits), and calls `tile(k, words, start, end)` for each tile k with a nonzero byte:
-    /// its four little-endian words, the bit position of its first literal (after the
-    /// run before it) and the bit position past its last literal, which
+    /// bits), and calls `tile(k, words, sums, start, end)` for each tile k with a nonzero
+    /// byte: its four little-endian words, each word's Σ f_i and Σ i·f_i over its bytes
+    /// (as `literals::word_sums` gives them), the bit position of its first literal
+    /// (after the run before it) and the bit position past its last literal, which
     /// [`Deflate::bytes_marked`] gives a tile compressed alone. `data.len()` must be a
     /// multiple of [`TILE`].
     ///
@@ -289,11 +291,11 @@ impl<'c> Deflate<'c> {
     pub(super) fn bytes_tiles(
         &mut self,
         data: &[u8],
-        tile: impl FnMut(usize, [u64; 4], usize, usize),
+        tile: impl FnMut(usize, [u64; 4], [(u32, u32); 4], usize, usize),
     ) {
         match self.halves.take() {
             Some(mut halves) => {
-                self.tiles_with(data, tile, Vector::new(self.codes, &mut halves));
+                self.tiles_with(data, tile, Vector::<true>::new(self.codes, &mut halves));
                 self.halves = Some(halves);
             }
             None => self.tiles_with(data, tile, Scalar(self.codes)),
@@ -305,7 +307,7 @@ impl<'c> Deflate<'c> {
     fn tiles_with(
         &mut self,
         data: &[u8],
-        mut tile: impl FnMut(usize, [u64; 4], usize, usize),
+        mut tile: impl FnMut(usize, [u64; 4], [(u32, u32); 4], usize, usize),
         mut literals: impl Literals,
     ) {
         debug_assert_eq!(data.len() % TILE, 0);
@@ -365,7 +367,8 @@ impl<'c> Deflate<'c> {
                     run = (7 - last) as usize;
                 }
                 run += 8 * (4 - next);
-                tile(k, words, start, sink.bit_position());
+                let sums = std::array::from_fn(|j| literals.sums(4 * t + j, words[j]));
+                tile(k, words, sums, start, sink.bit_position());
             }
         }
         sink.give(self);

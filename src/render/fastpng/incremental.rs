@@ -257,8 +257,8 @@ impl FrameCoder {
                 let whole = (b - a) / TILE;
                 w.bytes_tiles(
                     &self.filtered[a..a + whole * TILE],
-                    |k, words, start, end| {
-                        record(a + k * TILE, tile_words(words), start, end);
+                    |k, words, sums, start, end| {
+                        record(a + k * TILE, tile_words(words, sums), start, end);
                     },
                 );
                 let at = a + whole * TILE;
@@ -302,37 +302,23 @@ impl FrameCoder {
 /// compress afresh: 2, 4 and 8 did alike in `trail_probe` (`ONLY_OWN=1`).
 const AHEAD: usize = 4;
 
-/// For the eight bytes f_j of a little-endian word, returns Σ f_j and Σ j·f_j, four
-/// bytes at a time in 16-bit lanes of one multiply each (a scalar loop over the bytes
-/// cost a fifth of the encoder's time).
-///
-/// With the even bytes e_i = f_{2i} and the odd ones o_i = f_{2i+1} in lanes i = 0..3,
-/// multiplying by Σ_k c_k·2^(16k) leaves Σ_(i+k=3) x_i·c_k in the top lane: c = (1, 1,
-/// 1, 1) gives Σ x_i, and c_k = 3 - k gives Σ i·x_i. No lane passes 6·255 < 2^16, so
-/// none carries into the next. Then Σ j·f_j = 2·Σ i·e_i + 2·Σ i·o_i + Σ o_i.
-#[inline(always)]
-fn word_sums(w: u64) -> (u32, u32) {
-    const LANES: u64 = 0x00FF_00FF_00FF_00FF;
-    const ONES: u64 = 0x0001_0001_0001_0001;
-    const RAMP: u64 = 0x0000_0001_0002_0003;
-    let (even, odd) = (w & LANES, (w >> 8) & LANES);
-    let top = |x: u64| (x >> 48) as u32;
-    let (se, so) = (top(even.wrapping_mul(ONES)), top(odd.wrapping_mul(ONES)));
-    let (ve, vo) = (top(even.wrapping_mul(RAMP)), top(odd.wrapping_mul(RAMP)));
-    (se + so, 2 * ve + 2 * vo + so)
-}
-
 /// For a whole tile's filtered bytes f_j as four little-endian words, not all zero,
-/// returns the index of the first nonzero byte, one past the last, Σ f_j and Σ j·f_j.
+/// and each word's Σ f_i and Σ i·f_i over its own bytes, returns the index of the
+/// first nonzero byte, one past the last, Σ f_j and Σ j·f_j.
 #[inline(always)]
-fn tile_words(words: [u64; 4]) -> (usize, usize, u32, u32) {
-    let first = words.iter().position(|w| *w != 0).unwrap_or(0);
-    let last = words.iter().rposition(|w| *w != 0).unwrap_or(first);
+fn tile_words(words: [u64; 4], sums: [(u32, u32); 4]) -> (usize, usize, u32, u32) {
+    // The nonzero words as bits, so that finding the first and the last does not
+    // branch on where an edge falls in the tile.
+    let busy = words
+        .iter()
+        .enumerate()
+        .fold(0u32, |m, (k, w)| m | u32::from(*w != 0) << k);
+    let first = (busy | 1 << 3).trailing_zeros() as usize;
+    let last = (31 - (busy | 1).leading_zeros()) as usize;
     let from = 8 * first + (words[first].trailing_zeros() / 8) as usize;
     let to = 8 * last + 8 - (words[last].leading_zeros() / 8) as usize;
     let (mut s, mut v) = (0u32, 0u32);
-    for (k, w) in words.into_iter().enumerate() {
-        let (ws, wv) = word_sums(w);
+    for (k, (ws, wv)) in sums.into_iter().enumerate() {
         // Byte j of word k is byte 8·k + j of the tile.
         s += ws;
         v += wv + 8 * k as u32 * ws;
@@ -357,6 +343,7 @@ fn tile_bytes(f: &[u8]) -> Option<(usize, usize, u32, u32)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::fastpng::literals::word_sums;
 
     /// The sums by lanes equal the sums byte by byte, for every tile of a stream of
     /// pseudo-random bytes that includes the extremes (all 255, all 0, one byte).
@@ -390,7 +377,7 @@ mod tests {
             let words: [u64; 4] = std::array::from_fn(|k| {
                 u64::from_le_bytes(tile[8 * k..8 * k + 8].try_into().expect("eight bytes"))
             });
-            let lanes = (words != [0; 4]).then(|| tile_words(words));
+            let lanes = (words != [0; 4]).then(|| tile_words(words, words.map(word_sums)));
             assert_eq!(lanes, expected, "{tile:?}");
             assert_eq!(tile_bytes(tile), expected, "{tile:?}");
             // The short last tile of a row takes the byte path, with the same sums.

@@ -539,13 +539,21 @@ fn tiles_in_one_stretch_are_the_tiles_one_by_one() {
                 w.run = run;
             }
             let mut marks = Vec::new();
-            quick.bytes_tiles(&data, |k, words, start, end| {
+            quick.bytes_tiles(&data, |k, words, sums, start, end| {
                 let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
                 assert_eq!(
                     bytes,
                     data[k * TILE..(k + 1) * TILE],
                     "case {case}, tile {k}"
                 );
+                // Each word's sums, byte by byte.
+                let expected: [(u32, u32); 4] = std::array::from_fn(|w| {
+                    let word = &bytes[8 * w..8 * w + 8];
+                    let s = word.iter().map(|&x| u32::from(x)).sum();
+                    let v = (0..8).map(|i| i as u32 * u32::from(word[i])).sum();
+                    (s, v)
+                });
+                assert_eq!(sums, expected, "case {case}, tile {k}: sums");
                 marks.push((k, start, end));
             });
             let mut expected = Vec::new();
