@@ -165,8 +165,15 @@ impl FrameCoder {
             self.next_row_items.push(self.next_items.len() as u32);
             // Σ f_i and Σ i·f_i over the row's filtered bytes so far.
             let (mut sum, mut weighted) = (0u32, 0u64);
+            // The row's items of the frame before, its sentinel last.
             let old: &[Item] = match previous {
-                Some(_) => &self.items[self.row_items[y] as usize..],
+                Some(_) => {
+                    let end = self
+                        .row_items
+                        .get(y + 1)
+                        .map_or(self.items.len(), |e| *e as usize);
+                    &self.items[self.row_items[y] as usize..end]
+                }
                 None => &[],
             };
             let mut i = 0;
@@ -190,8 +197,8 @@ impl FrameCoder {
                         // Each copied tile's bits move by the same amount, and its
                         // sums by the difference between the sums before the span.
                         let at = w.bit_position() as u32;
-                        // Written moved into room made for every item left, in the
-                        // pass that finds the span's last: not checked item by item
+                        // Written moved into room made for every item left in the
+                        // row, in the pass that finds the span's last: not checked item by item
                         // (the check was most of copying a clean span), not through an
                         // iterator's fold, which counted the length a record at a
                         // time, nor copied by a call to `memcpy` and then moved (a frame
