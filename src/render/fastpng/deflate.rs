@@ -136,8 +136,8 @@ impl<'c> Deflate<'c> {
     /// Appends `count` 64-bit words of `bytes` starting at bit `from`, to an output
     /// that is on a whole byte with no bits pending: word i is
     /// w_i = (x_i >> s) | (x_{i+1} << (64 - s)), x_i the little-endian word at byte
-    /// from / 8 + 8·i and s = from % 8, which reads one word past the last (the eight
-    /// bytes past the range that callers keep).
+    /// from / 8 + 8·i and s = from % 8, of which only the first byte of x_{i+1} counts:
+    /// for the last word, the byte past the words.
     fn put_bytes_shifted(&mut self, bytes: &[u8], from: usize, count: usize) {
         let (at, s) = (from / 8, (from % 8) as u32);
         let start = self.out.len();
@@ -147,20 +147,13 @@ impl<'c> Deflate<'c> {
             out.copy_from_slice(&bytes[at..at + 8 * count]);
             return;
         }
-        let src = &bytes[at..];
-        let word = |i: usize| {
-            let b: [u8; 8] = src[8 * i..8 * i + 8].try_into().unwrap_or_default();
-            u64::from_le_bytes(b)
-        };
-        // One byte past the words: enough for the last word's high bits.
-        let past = |i: usize| u64::from(src.get(8 * i).copied().unwrap_or(0));
-        for (i, o) in out.chunks_exact_mut(8).enumerate() {
-            let high = if i + 1 < count {
-                word(i + 1)
-            } else {
-                past(i + 1)
-            };
-            o.copy_from_slice(&((word(i) >> s) | (high << (64 - s))).to_le_bytes());
+        // Word i's high bits are the low s bits of the next word: its first byte (for
+        // the last word, the byte past the words, read as zero if it is not there).
+        let src = &bytes[at..at + 8 * count];
+        for (i, (o, x)) in out.chunks_exact_mut(8).zip(src.chunks_exact(8)).enumerate() {
+            let low = u64::from_le_bytes([x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7]]);
+            let next = bytes.get(at + 8 * i + 8).copied().unwrap_or(0);
+            o.copy_from_slice(&((low >> s) | (u64::from(next) << (64 - s))).to_le_bytes());
         }
     }
 
