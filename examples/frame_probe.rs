@@ -10,7 +10,8 @@
 //! trails), then draws the frame over and over as a worker does (into a reused pixmap,
 //! from the last frame's damage, and with trails from a layer that holds the frame
 //! before), and encodes it with the default compression and with `fdeflate` whole. It
-//! prints the best and median milliseconds of each and the PNG's size.
+//! prints the best and median milliseconds of each, the PNG's size, and the frame's
+//! damage (whole, or how much of the frame its rectangles cover).
 
 use std::path::Path;
 use std::sync::Arc;
@@ -101,8 +102,25 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let whole = time(&mut || {
         let _ = encode_png_into(&mut png, &pixmap, &none, Compression::Fastest, true);
     });
+    // What the frame's damage is: whole, or rectangles covering some of the frame
+    // (their areas summed, overlaps counted twice).
+    let covered = if damage.is_whole() {
+        "whole".to_string()
+    } else {
+        let area: u64 = damage
+            .rects()
+            .iter()
+            .map(|r| u64::from(r.x1 - r.x0) * u64::from(r.y1 - r.y0))
+            .sum();
+        let frame_area = u64::from(scene.render.width) * u64::from(scene.render.height);
+        format!(
+            "{} rectangles, {:.1}% of the frame",
+            damage.rects().len(),
+            100.0 * area as f64 / frame_area as f64
+        )
+    };
     println!(
-        "{} frame {frame}, {runs} runs, ms best / median: draw {draw}, encode {fast} ({fast_bytes} B), fdeflate whole {whole} ({} B)",
+        "{} frame {frame}, {runs} runs, ms best / median: draw {draw}, encode {fast} ({fast_bytes} B), fdeflate whole {whole} ({} B); damage {covered}",
         scene.name,
         png.len()
     );

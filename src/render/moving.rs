@@ -160,16 +160,31 @@ impl Renderer {
                             self.height,
                         )
                     }
-                    // Everything drawn for a body lies within its reach of (x, y), at
-                    // any angle; the margin covers the outline's half-width and
-                    // anti-aliasing (a sprite pads by 3 pixels) with a pixel to spare.
-                    _ => damage.add_around(
-                        x,
-                        y,
-                        look.body.reach() + DAMAGE_MARGIN,
-                        self.width,
-                        self.height,
-                    ),
+                    // A look that never turns lies in its own box, grown for its
+                    // stroke and rounded out to whole pixels (tiny-skia touches no
+                    // pixel the shape misses), with a pixel to spare. Everything
+                    // drawn for another lies within its reach of (x, y), at any angle;
+                    // the margin covers the outline's half-width and anti-aliasing (a
+                    // sprite pads by 3 pixels) with a pixel to spare.
+                    _ => match look.body.fixed_box().filter(|_| angle.is_none()) {
+                        Some([x0, y0, x1, y1]) => damage.add_rect(
+                            (
+                                (x + x0).floor() as i64,
+                                (y + y0).floor() as i64,
+                                (x + x1).ceil() as i64,
+                                (y + y1).ceil() as i64,
+                            ),
+                            self.width,
+                            self.height,
+                        ),
+                        None => damage.add_around(
+                            x,
+                            y,
+                            look.body.reach() + DAMAGE_MARGIN,
+                            self.width,
+                            self.height,
+                        ),
+                    },
                 }
             }
             if let (Some(sheet), Some(theta)) = (&look.turning, angle) {

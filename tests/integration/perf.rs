@@ -842,10 +842,13 @@ fn check_static_tiles(s: &Scene) {
 
 #[test]
 fn drawing_from_the_last_frames_damage_gives_the_pixels_of_a_whole_redraw() {
-    // 20 stamped circles and three bodies drawn as paths (a box, a polygon, a larger
-    // circle), some crossing the edges, moving over a static layer with detail; one
-    // pixmap reused from frame to frame as a render's workers do. Their rectangles
-    // stay under a quarter of the frame, past which the damage would be whole.
+    // 20 stamped circles and five bodies drawn as paths (a box, a box at a fixed
+    // angle, a polygon, a thin sharp one, a larger circle), some crossing the edges,
+    // moving over a static layer with detail; one pixmap reused from frame to frame as
+    // a render's workers do. A body that never turns marks the box of its outline,
+    // grown for its stroke and a pixel more (the box grown by less than the stroke's
+    // half-width fails this test). Their rectangles stay under a fifth of the frame,
+    // past which the damage would be whole.
     const BODIES: &str = r##"
 [render]
 width = 160
@@ -857,10 +860,21 @@ mass = 1.0
 position = [3.0, 3.0]
 shape = { box = { width = 1.2, height = 0.5 } }
 [[body]]
+name = "crate"
+mass = 1.0
+position = [6.0, 7.0]
+angle = 0.7
+shape = { box = { width = 0.9, height = 0.3 } }
+[[body]]
 name = "wedge"
 mass = 1.0
 position = [12.0, 6.0]
 shape = { polygon = { points = [[0.0, 0.0], [0.8, 0.1], [0.2, 0.6]] } }
+[[body]]
+name = "needle"
+mass = 1.0
+position = [9.0, 2.0]
+shape = { polygon = { points = [[-0.9, 0.0], [0.9, 0.05], [0.0, 0.12]] } }
 [[body]]
 name = "big"
 mass = 1.0

@@ -103,10 +103,11 @@ fn trail_frames_drawn_against_the_frame_before_are_those_of_a_whole_redraw() {
     check_worker("turning", &turning, &[0, 1, 3, 5, 6, 9, 30], Some(&[0]));
     // Arrows over the trails mark the tiles they may change, row by row (pixels
     // changed outside them fail above), on every third body; on every body the marks
-    // pass a third of the frame's tiles, and every tile is marked instead.
+    // pass a third of the frame's tiles, and every tile is marked instead (60 bodies:
+    // 40 marked less once bodies that never turn marked the boxes of their outlines).
     let arrows = user_scene(40, 3, true, false);
     check_worker("arrows", &arrows, &[0, 1, 2, 5, 6, 7], Some(&[0]));
-    let every = user_scene(40, 1, true, true);
+    let every = user_scene(60, 1, true, true);
     check_worker("every arrow", &every, &[0, 1, 4, 5, 9, 10], None);
     // The HUD over the trails: its box is marked with the bodies, not every tile,
     // and its text, which changes every frame, is right in every frame.

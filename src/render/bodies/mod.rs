@@ -405,6 +405,27 @@ impl BodyLook {
         Some((ex + grow, ey + grow))
     }
 
+    /// Returns the box, as offsets in pixels from the centre of mass (left, top,
+    /// right, bottom), around everything drawn for a look that never turns and is an
+    /// outline alone: the outline's bounds grown by the stroke's half-width (its joins
+    /// are round, so the stroke lies within that of the outline) and a pixel to spare
+    /// for anti-aliasing's rounding. Tighter than the square of the look's reach, which holds the
+    /// look at every angle: for a box twice as wide as high, about half its tiles.
+    /// `None` for other looks.
+    pub fn fixed_box(&self) -> Option<[f32; 4]> {
+        if self.turns || self.points.is_some() {
+            return None;
+        }
+        let b = self.outline.as_ref()?.bounds();
+        let grow = OUTLINE_HALF_WIDTH as f32 + 1.0;
+        Some([
+            b.left() - grow,
+            b.top() - grow,
+            b.right() + grow,
+            b.bottom() + grow,
+        ])
+    }
+
     /// Draws the look as [`BodyLook::draw_turned_fast`] does through the scan
     /// converter (a convex outline, or a polygon that is not convex), its fill into
     /// `fill` and its stroke into `edge`, both in `ink`, placed and turned by `at`;
