@@ -19,6 +19,7 @@ use std::time::Instant;
 
 use glam::DVec2;
 use physframes::history::HistoryWriter;
+use physframes::render::damage::TileMask;
 use physframes::render::fastpng::StaticPng;
 use physframes::render::{
     encode_png_into, ArrowScales, Compression, Damage, FrameView, Provenance, Renderer,
@@ -113,10 +114,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .map(|r| u64::from(r.x1 - r.x0) * u64::from(r.y1 - r.y0))
             .sum();
         let frame_area = u64::from(scene.render.width) * u64::from(scene.render.height);
+        let mut tiles = TileMask::new(scene.render.width, scene.render.height);
+        tiles.clear();
+        tiles.add_damage(&damage);
         format!(
-            "{} rectangles, {:.1}% of the frame",
+            "{} rectangles, {:.1}% of the frame, {:.1}% of its tiles",
             damage.rects().len(),
-            100.0 * area as f64 / frame_area as f64
+            100.0 * area as f64 / frame_area as f64,
+            100.0 * tiles.count() as f64 / tiles.tiles() as f64
         )
     };
     println!(

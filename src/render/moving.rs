@@ -142,6 +142,30 @@ impl Renderer {
                         Some(tiles) => sprite.mark_tiles(tiles, x, y),
                         None => damage.add_rect(sprite.footprint(x, y), self.width, self.height),
                     },
+                    // A turning circle's stamp, then its orientation line from the
+                    // centre to the rim, in the box of its ends: row by row and that
+                    // box, or the rectangle around both.
+                    Some(sprite) if look.body.turns_by_marker() => {
+                        let theta = angle.unwrap_or(0.0);
+                        let line = look.body.orientation_box(x, y, theta);
+                        let line = line.unwrap_or_else(|| sprite.footprint(x, y));
+                        match tiles.as_deref_mut() {
+                            Some(tiles) => {
+                                sprite.mark_tiles(tiles, x, y);
+                                damage.add_rect(line, self.width, self.height);
+                            }
+                            None => {
+                                let s = sprite.footprint(x, y);
+                                let both = (
+                                    s.0.min(line.0),
+                                    s.1.min(line.1),
+                                    s.2.max(line.2),
+                                    s.3.max(line.3),
+                                );
+                                damage.add_rect(both, self.width, self.height);
+                            }
+                        }
+                    }
                     // A turning convex outline drawn by the scan converter lies in
                     // the box of its turned points, grown for its stroke and
                     // anti-aliasing; a pixel more is spare.

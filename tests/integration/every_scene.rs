@@ -1010,15 +1010,16 @@ fn hidden_bodies_still_leave_their_trails() {
 #[test]
 fn turning_bodies_drawn_from_the_last_frames_damage_give_the_pixels_of_a_whole_redraw() {
     // A turning box's damage is the box of its turned corners, grown for its stroke:
-    // tighter than the circle of its reach, it must still hold every pixel drawn.
+    // tighter than the circle of its reach, it must still hold every pixel drawn. A
+    // turning disc's is its sprite's rectangle and the box of its orientation line.
     let mut text = String::from(
         "[render]\nwidth = 320\nheight = 180\nview = { min = [0.0, 0.0], max = [16.0, 9.0] }\n",
     );
-    for i in 0..40 {
-        let shape = if i % 2 == 0 {
-            "{ box = { width = 0.5, height = 0.2 } }"
-        } else {
-            "{ polygon = { points = [[-0.3, -0.2], [0.3, -0.1], [0.0, 0.3]] } }"
+    for i in 0..60 {
+        let shape = match i % 3 {
+            0 => "{ box = { width = 0.5, height = 0.2 } }",
+            1 => "{ polygon = { points = [[-0.3, -0.2], [0.3, -0.1], [0.0, 0.3]] } }",
+            _ => "{ circle = { radius = 0.21 } }",
         };
         text.push_str(&format!(
             "[[body]]\nmass = 1.0\nposition = [{:.2}, {:.2}]\nangular_velocity = 1.0\nshape = {shape}\n",

@@ -38,6 +38,23 @@ impl BodyLook {
         pixmap.stroke_path(&line, &paint, &stroke, Transform::identity(), None);
     }
 
+    /// Returns the pixels, as columns x0..x1 and rows y0..y1 in (x0, y0, x1, y1), that
+    /// a turning circle's orientation line at `theta` may change with the circle's
+    /// centre at pixel (x, y): the box of its ends grown by the round caps' half-width,
+    /// a pixel to spare, rounded out. `None` for other looks.
+    pub fn orientation_box(&self, x: f32, y: f32, theta: f64) -> Option<(i64, i64, i64, i64)> {
+        let r = self.marker?;
+        let (s, c) = theta.sin_cos();
+        let tip = (x + r * c as f32, y - r * s as f32);
+        let grow = 0.5 * ORIENTATION_WIDTH + 1.0;
+        Some((
+            (x.min(tip.0) - grow).floor() as i64,
+            (y.min(tip.1) - grow).floor() as i64,
+            (x.max(tip.0) + grow).ceil() as i64,
+            (y.max(tip.1) + grow).ceil() as i64,
+        ))
+    }
+
     /// Draws a turning circle's orientation as [`BodyLook::draw_orientation`] does,
     /// through the scan converter: the stroke's polygon (the line with round caps, each
     /// cap's half circle cut into six 30° chords, within 0.026 pixel of the arc) filled
