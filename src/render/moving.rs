@@ -186,11 +186,17 @@ impl Renderer {
                     }
                     // A look that never turns lies in its own box, grown for its
                     // stroke and rounded out to whole pixels (tiny-skia touches no
-                    // pixel the shape misses), with a pixel to spare. Everything
+                    // pixel the shape misses), with a pixel to spare; a body of
+                    // point masses in the box of its discs and marker. Everything
                     // drawn for another lies within its reach of (x, y), at any angle;
                     // the margin covers the outline's half-width and anti-aliasing (a
                     // sprite pads by 3 pixels) with a pixel to spare.
-                    _ => match look.body.fixed_box().filter(|_| angle.is_none()) {
+                    _ => match look
+                        .body
+                        .fixed_box()
+                        .filter(|_| angle.is_none())
+                        .or_else(|| look.body.points_box(angle))
+                    {
                         Some([x0, y0, x1, y1]) => damage.add_rect(
                             (
                                 (x + x0).floor() as i64,

@@ -1011,18 +1011,20 @@ fn hidden_bodies_still_leave_their_trails() {
 fn turning_bodies_drawn_from_the_last_frames_damage_give_the_pixels_of_a_whole_redraw() {
     // A turning box's damage is the box of its turned corners, grown for its stroke:
     // tighter than the circle of its reach, it must still hold every pixel drawn. A
-    // turning disc's is its sprite's rectangle and the box of its orientation line.
+    // turning disc's is its sprite's rectangle and the box of its orientation line; a
+    // turning body of point masses', the box of its discs and its marker.
     let mut text = String::from(
         "[render]\nwidth = 320\nheight = 180\nview = { min = [0.0, 0.0], max = [16.0, 9.0] }\n",
     );
     for i in 0..60 {
-        let shape = match i % 3 {
-            0 => "{ box = { width = 0.5, height = 0.2 } }",
-            1 => "{ polygon = { points = [[-0.3, -0.2], [0.3, -0.1], [0.0, 0.3]] } }",
-            _ => "{ circle = { radius = 0.21 } }",
+        let shape = match (i % 8, i % 3) {
+            (7, _) => "points = [{ offset = [-0.3, 0.1], mass = 1.0 }, { offset = [0.2, -0.1], mass = 3.0 }]",
+            (_, 0) => "mass = 1.0\nshape = { box = { width = 0.5, height = 0.2 } }",
+            (_, 1) => "mass = 1.0\nshape = { polygon = { points = [[-0.3, -0.2], [0.3, -0.1], [0.0, 0.3]] } }",
+            _ => "mass = 1.0\nshape = { circle = { radius = 0.21 } }",
         };
         text.push_str(&format!(
-            "[[body]]\nmass = 1.0\nposition = [{:.2}, {:.2}]\nangular_velocity = 1.0\nshape = {shape}\n",
+            "[[body]]\nposition = [{:.2}, {:.2}]\nangular_velocity = 1.0\n{shape}\n",
             0.5 + (i % 10) as f64 * 1.6,
             0.5 + (i / 10) as f64 * 2.2,
         ));

@@ -842,8 +842,9 @@ fn check_static_tiles(s: &Scene) {
 
 #[test]
 fn drawing_from_the_last_frames_damage_gives_the_pixels_of_a_whole_redraw() {
-    // 20 stamped circles and five bodies drawn as paths (a box, a box at a fixed
-    // angle, a polygon, a thin sharp one, a larger circle), some crossing the edges,
+    // 20 stamped circles and six bodies drawn as paths (a box, a box at a fixed
+    // angle, a polygon, a thin sharp one, a body of two point masses, a larger
+    // circle), some crossing the edges,
     // moving over a static layer with detail; one pixmap reused from frame to frame as
     // a render's workers do. A body that never turns marks the box of its outline,
     // grown for its stroke and a pixel more (the box grown by less than the stroke's
@@ -875,6 +876,11 @@ name = "needle"
 mass = 1.0
 position = [9.0, 2.0]
 shape = { polygon = { points = [[-0.9, 0.0], [0.9, 0.05], [0.0, 0.12]] } }
+[[body]]
+name = "dumbbell"
+position = [13.0, 2.5]
+angle = 0.4
+points = [{ offset = [-0.6, 0.0], mass = 1.0 }, { offset = [0.5, 0.2], mass = 2.0 }]
 [[body]]
 name = "big"
 mass = 1.0

@@ -426,6 +426,35 @@ impl BodyLook {
         ])
     }
 
+    /// Returns the box, as offsets in pixels from the centre of mass (left, top,
+    /// right, bottom), around everything drawn for a body of point masses turned by
+    /// `theta` (`None`: at its fixed angle): each mass's disc with its 1-pixel outline,
+    /// and the centre-of-mass marker, grown by a pixel to spare. The bars from the
+    /// centre to the masses lie inside: each is 1.5 pixels wide, ends in a disc of
+    /// at least 3 pixels' radius and starts inside the marker. For a dumbbell about
+    /// half the square of its reach. `None` for other looks.
+    pub fn points_box(&self, theta: Option<f64>) -> Option<[f32; 4]> {
+        let masses = self.masses.as_ref()?;
+        let (s, c) = theta
+            .filter(|_| self.turns)
+            .map_or((0.0, 1.0), f64::sin_cos);
+        let (s, c) = (s as f32, c as f32);
+        let m = MARKER_REACH + 1.0;
+        let mut b = [-m, -m, m, m];
+        for &((x, y), r) in masses {
+            // The turn of `PointLayers::draw`: (X, Y) -> (c·X + s·Y, -s·X + c·Y).
+            let (px, py) = (c * x + s * y, -s * x + c * y);
+            let e = r + 0.5 + 1.0;
+            b = [
+                b[0].min(px - e),
+                b[1].min(py - e),
+                b[2].max(px + e),
+                b[3].max(py + e),
+            ];
+        }
+        Some(b)
+    }
+
     /// Draws the look as [`BodyLook::draw_turned_fast`] does through the scan
     /// converter (a convex outline, or a polygon that is not convex), its fill into
     /// `fill` and its stroke into `edge`, both in `ink`, placed and turned by `at`;
