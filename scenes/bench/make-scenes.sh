@@ -40,7 +40,7 @@ FOOT
 }
 
 # bodies COUNT SEED KIND [RADIUS]: COUNT [[body]] tables; KIND is circles, arrows, mixed,
-# sizes, crates, dumbbells, spinning-dumbbells, turning or turning-sizes; circles and arrows have RADIUS (0.06 unless given).
+# sizes, crates, dumbbells, spinning-dumbbells, turning, turning-sizes or trails-sizes; circles and arrows have RADIUS (0.06 unless given).
 bodies() {
     awk -v n="$1" -v seed="$2" -v kind="$3" -v radius="${4:-0.06}" '
     function rnd() { x = (x * 16807) % 2147483647; return x / 2147483647 }
@@ -98,6 +98,16 @@ bodies() {
             } else if (kind == "turning") {
                 printf "angle = %.4f\nangular_velocity = %.4f\n", uniform(-3.1416, 3.1416), uniform(-2.0, 2.0)
                 print "shape = { box = { width = 0.16, height = 0.08 } }"
+            } else if (kind == "trails-sizes") {
+                # Discs, boxes and triangles, each of its own size, half of them
+                # turning from an angle of their own, as a user scatters shapes, to
+                # be drawn with trails (none is stamped but the discs, from sprites
+                # of snapped radii).
+                k = rnd()
+                if (rnd() < 0.5) printf "angle = %.4f\nangular_velocity = %.4f\n", uniform(-3.1416, 3.1416), uniform(-2.0, 2.0)
+                if (k < 0.4) printf "shape = { circle = { radius = %.4f } }\n", uniform(0.04, 0.09)
+                else if (k < 0.7) printf "shape = { box = { width = %.4f, height = %.4f } }\n", uniform(0.08, 0.2), uniform(0.06, 0.15)
+                else printf "shape = { polygon = { points = [[-0.06, -0.04], [0.07, -0.05], [0.0, %.4f]] } }\n", uniform(0.05, 0.1)
             } else if (kind == "turning-sizes") {
                 # The turning boxes of turning-boxes-1000, each of its own width and
                 # height (as when a user scatters crates of many sizes): none shares a
@@ -175,6 +185,12 @@ bodies() {
     bodies 1000 53 turning-sizes
     footer
 } >turning-sizes-1000.toml
+
+{
+    header trails-sizes-1000 "1000 discs, boxes and triangles in the default colours with trails, each of its own size, half of them turning, 601 frames." 20.0 "trails = true"
+    bodies 1000 59 trails-sizes
+    footer
+} >trails-sizes-1000.toml
 
 # springs COUNT: COUNT springs shown as coils, each joining unnamed body 2k to body 2k + 1
 # (named body0, body1, ... by their order): scattered at random, so the coils start
