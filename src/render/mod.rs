@@ -517,9 +517,14 @@ impl Renderer {
             && (!self.overlay.draws_over_frames() || self.overlay.draws_only_the_hud())
     }
 
-    /// Makes `pixmap` a copy of the static layer again, rewriting only its damage.
+    /// Makes `pixmap` a copy of the static layer again, rewriting only its damage. A
+    /// plain background is filled whole once the damage passes a fifth of the frame:
+    /// filling writes and reads nothing, where copying rectangles reads the layer too.
+    /// (`sizes-1000`, its rectangles 24% of the frame: a render's CPU time 1.15 s by
+    /// rectangles, 0.86 filled; `sh benches/builds-pairs.sh`, 8 pairs.)
     fn restore(&self, pixmap: &mut Pixmap, damage: &Damage) {
-        if damage.is_whole() {
+        let frame = u64::from(self.width) * u64::from(self.height);
+        if damage.is_whole() || (self.plain.is_some() && 5 * damage.area() > frame) {
             match self.plain {
                 Some(background) => pixmap.fill(background),
                 None => pixmap.data_mut().copy_from_slice(self.static_layer.data()),

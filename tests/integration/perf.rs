@@ -848,8 +848,8 @@ fn drawing_from_the_last_frames_damage_gives_the_pixels_of_a_whole_redraw() {
     // moving over a static layer with detail; one pixmap reused from frame to frame as
     // a render's workers do. A body that never turns marks the box of its outline,
     // grown for its stroke and a pixel more (the box grown by less than the stroke's
-    // half-width fails this test). Their rectangles stay under a fifth of the frame,
-    // past which the damage would be whole.
+    // half-width fails this test). Their rectangles stay under a quarter of the
+    // frame, past which the damage would be whole.
     const BODIES: &str = r##"
 [render]
 width = 160

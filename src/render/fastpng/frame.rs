@@ -5,7 +5,7 @@
 use tiny_skia::Pixmap;
 
 use super::*;
-use crate::render::damage::Damage;
+use crate::render::damage::{set_bits_in_rows, Damage};
 use crate::render::encode::Provenance;
 
 impl StaticPng {
@@ -31,11 +31,8 @@ impl StaticPng {
             // Pixels x0..x1 are bytes 4·x0..4·x1, so tiles 4·x0/TILE to ⌈4·x1/TILE⌉.
             let (t0, t1) = (4 * r.x0 as usize / TILE, (4 * r.x1 as usize).div_ceil(TILE));
             let rows = r.y0 as usize..(r.y1 as usize + 1).min(height);
-            for y in rows {
-                let row = &mut dirty[y * words..(y + 1) * words];
-                for t in t0..t1 {
-                    row[t / 64] |= 1 << (t % 64);
-                }
+            if t0 < t1 {
+                set_bits_in_rows(&mut dirty, words, t0..t1, rows);
             }
         }
         let dirty_tiles: u32 = dirty.iter().map(|w| w.count_ones()).sum();
