@@ -2,7 +2,8 @@
 # Writes the benchmark scenes of bodies written one `[[body]]` table each, as a user
 # writes them (issue #16): the same moving discs as circles-1000.toml, but in the
 # default colour cycle, and variants with 10,000 bodies, velocity arrows, trails, mixed
-# shapes, turning boxes and springs shown as coils. Run from the repository's root:
+# shapes, turning boxes, shapes of their own sizes with trails and springs shown as
+# coils. Run from the repository's root:
 #   sh scenes/bench/make-scenes.sh
 # The numbers come from a Park-Miller generator (x <- 16807·x mod 2^31 - 1, exact in
 # awk's doubles) and are printed with 4 decimals, so every run writes the same files.
