@@ -101,6 +101,40 @@ fn trail_frames_drawn_against_the_frame_before_are_those_of_a_whole_redraw() {
     // Turning boxes and triangles.
     let turning = user_scene(60, 0, true, true);
     check_worker("turning", &turning, &[0, 1, 3, 5, 6, 9, 30], Some(&[0]));
+    // Boxes and triangles of their own sizes, all turning, enough to be drawn by the
+    // scan converter (a turned box marks the box of its corners); and the same never
+    // turning, each at an angle of its own (the box of its outline).
+    let mut scanned = String::from(
+        "[simulation]\nduration = 2.0\n[render]\nwidth = 320\nheight = 180\nfps = 20\ntrails = true\nview = { min = [0.0, 0.0], max = [16.0, 9.0] }\n",
+    );
+    for i in 0..24 {
+        let (w, h) = (0.2 + 0.006 * i as f64, 0.12 + 0.007 * (i % 7) as f64);
+        let shape = if i % 2 == 0 {
+            format!("{{ box = {{ width = {w:.3}, height = {h:.3} }} }}")
+        } else {
+            format!(
+                "{{ polygon = {{ points = [[{:.3}, {:.3}], [{w:.3}, 0.0], [0.0, {h:.3}]] }} }}",
+                -w, -h
+            )
+        };
+        scanned.push_str(&format!(
+            "[[body]]\nmass = 1.0\nposition = [{:.2}, {:.2}]\nvelocity = [{:.2}, {:.2}]\nangle = {:.2}\nangular_velocity = 1.5\nshape = {shape}\n",
+            0.6 + (i % 8) as f64 * 1.9,
+            0.8 + (i / 8) as f64 * 2.6,
+            ((i % 5) as f64 - 2.0) * 0.5,
+            ((i % 3) as f64 - 1.0) * 0.6,
+            0.3 * i as f64,
+        ));
+    }
+    check_worker("scanned", &scanned, &[0, 1, 2, 5, 6, 9, 17], Some(&[0]));
+    let fixed = scanned.replace("angular_velocity = 1.5\n", "");
+    assert!(!fixed.contains("angular_velocity"), "none turns");
+    check_worker(
+        "scanned, fixed",
+        &fixed,
+        &[0, 1, 2, 5, 6, 9, 17],
+        Some(&[0]),
+    );
     // Arrows over the trails mark the tiles they may change, row by row (pixels
     // changed outside them fail above), on every third body; on every body the marks
     // pass a third of the frame's tiles, and every tile is marked instead (60 bodies:
