@@ -108,11 +108,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let covered = if damage.is_whole() {
         "whole".to_string()
     } else {
-        let area: u64 = damage
-            .rects()
-            .iter()
-            .map(|r| u64::from(r.x1 - r.x0) * u64::from(r.y1 - r.y0))
-            .sum();
+        let area = damage.area();
         let frame_area = u64::from(scene.render.width) * u64::from(scene.render.height);
         let mut tiles = TileMask::new(scene.render.width, scene.render.height);
         tiles.clear();

@@ -409,9 +409,9 @@ impl BodyLook {
     /// right, bottom), around everything drawn for a look that never turns and is an
     /// outline alone: the outline's bounds grown by the stroke's half-width (its joins
     /// are round, so the stroke lies within that of the outline) and a pixel to spare
-    /// for anti-aliasing's rounding. Tighter than the square of the look's reach, which holds the
-    /// look at every angle: for a box twice as wide as high, about half its tiles.
-    /// `None` for other looks.
+    /// for anti-aliasing's rounding. Tighter than the square of the look's reach,
+    /// which holds the look at every angle: for a box twice as wide as high, about
+    /// half its tiles. `None` for other looks.
     pub fn fixed_box(&self) -> Option<[f32; 4]> {
         if self.turns || self.points.is_some() {
             return None;
