@@ -247,6 +247,9 @@ impl TileMask {
     /// Marks the tiles of pixels x0..x1 of row y (inside the mask, x0 < x1).
     #[inline]
     pub fn mark_span(&mut self, x0: usize, x1: usize, y: usize) {
+        // Bit by bit, not through `set_bits_in_rows`: a stamp's rows span one to three
+        // tiles, and the word ranges' set-up made `trails-1000` 2 to 4% slower
+        // (`builds-pairs`, 8 pairs: CPU 4.73 against 4.84 s).
         let tile = TILE_PIXELS as usize;
         let row = &mut self.bits[y * self.words..(y + 1) * self.words];
         for t in x0 / tile..=(x1 - 1) / tile {
