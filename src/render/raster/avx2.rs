@@ -388,6 +388,65 @@ fn fill_colour(px: &mut [u8], ink: &Ink) {
     }
 }
 
+/// Blends `ink` into the pixels `px` (four bytes each) with a coverage byte each from
+/// `cover` (as many as there are pixels): [`Ink::blend`]'s bytes, eight pixels in two
+/// registers at a time, eight uncovered pixels skipped at once. A pixel of coverage 0
+/// in a group is blended with the rest and keeps its bytes, for div255(255·d) = d and
+/// div255(s·0) = 0.
+///
+/// # Safety
+/// The processor must have AVX2 ([`available`]).
+#[target_feature(enable = "avx2")]
+pub(super) unsafe fn blend_coverage(px: &mut [u8], cover: &[u8], ink: &Ink) {
+    debug_assert_eq!(px.len(), 4 * cover.len());
+    if ink.is_opaque() {
+        blend_coverage_with::<true>(px, cover, ink);
+    } else {
+        blend_coverage_with::<false>(px, cover, ink);
+    }
+}
+
+/// [`blend_coverage`] for an opaque ink (`O`) or a translucent one.
+#[inline]
+#[target_feature(enable = "avx2")]
+fn blend_coverage_with<const O: bool>(px: &mut [u8], cover: &[u8], ink: &Ink) {
+    let mut pixels = px.chunks_exact_mut(32);
+    let mut covers = cover.chunks_exact(8);
+    for (p8, c8) in (&mut pixels).zip(&mut covers) {
+        let c = u64::from_le_bytes(c8.try_into().expect("eight coverages"));
+        if c == 0 {
+            continue;
+        }
+        // The eight coverages as words in both halves, then each pixel's in its four
+        // channels' lanes.
+        let c = _mm256_broadcastsi128_si256(_mm_cvtepu8_epi16(_mm_cvtsi64_si128(c as i64)));
+        let ptr = p8.as_mut_ptr() as *mut __m256i;
+        // SAFETY: the chunk is 32 bytes, loaded and stored unaligned.
+        let p = unsafe { _mm256_loadu_si256(ptr) };
+        let out = [
+            mix::<O>(
+                _mm256_cvtepu8_epi16(_mm256_castsi256_si128(p)),
+                _mm256_shuffle_epi8(c, bytes(&SELECT_C0)),
+                ink,
+            ),
+            mix::<O>(
+                _mm256_cvtepu8_epi16(_mm256_extracti128_si256::<1>(p)),
+                _mm256_shuffle_epi8(c, bytes(&SELECT_C1)),
+                ink,
+            ),
+        ];
+        // The pack interleaves the halves; put the pixels back in order.
+        let packed = _mm256_permute4x64_epi64::<0b11_01_10_00>(_mm256_packus_epi16(out[0], out[1]));
+        unsafe { _mm256_storeu_si256(ptr, packed) };
+    }
+    let rest = pixels.into_remainder().chunks_exact_mut(4);
+    for (p, &c) in rest.zip(covers.remainder()) {
+        if c != 0 {
+            ink.blend(p, c);
+        }
+    }
+}
+
 /// The spans a..b as 16-bit columns relative to pixel x0's first (4·x0), clamped
 /// where every lane's clamp below gives the same (as `eight.rs`'s `relative`): the
 /// words a0..a3, b0..b3, in both halves of the register.

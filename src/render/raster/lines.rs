@@ -75,21 +75,29 @@ pub fn stroke_polyline(pixmap: &mut Pixmap, points: &[(f64, f64)], width: f64, i
             cover_segment(bytes, spans, (first_col, first_row, bw, bh), a, b, half);
         }
         let data = pixmap.data_mut();
+        // Eight pixels blended at a time where the processor can ([`Ink::blend`]'s
+        // bytes): 8.2 → 6.8 ms for the 1935 coils of a cloth (`frame_probe`).
+        let avx2 = super::avx2::available();
         for (r, (row, &(lo, hi))) in bytes.chunks_exact_mut(bw).zip(spans.iter()).enumerate() {
             if lo >= hi {
                 continue;
             }
             let start = 4 * ((first_row as usize + r) * w as usize + first_col as usize);
             let pixels = &mut data[start + 4 * lo..start + 4 * hi];
-            // Eight coverages at a time, skipping eight pixels uncovered at once (the
-            // inside of a zigzag's turns).
-            for (p8, c8) in pixels.chunks_mut(32).zip(row[lo..hi].chunks(8)) {
-                if c8.iter().all(|&c| c == 0) {
-                    continue;
-                }
-                for (p, &c) in p8.chunks_exact_mut(4).zip(c8) {
-                    if c != 0 {
-                        ink.blend(p, c);
+            if avx2 {
+                // SAFETY: the processor has AVX2.
+                unsafe { super::avx2::blend_coverage(pixels, &row[lo..hi], &ink) };
+            } else {
+                // Eight coverages at a time, skipping eight pixels uncovered at once
+                // (the inside of a zigzag's turns).
+                for (p8, c8) in pixels.chunks_mut(32).zip(row[lo..hi].chunks(8)) {
+                    if c8.iter().all(|&c| c == 0) {
+                        continue;
+                    }
+                    for (p, &c) in p8.chunks_exact_mut(4).zip(c8) {
+                        if c != 0 {
+                            ink.blend(p, c);
+                        }
                     }
                 }
             }
@@ -476,6 +484,56 @@ mod tests {
         let mean = total / 64.0;
         eprintln!("a dot's coverage: {mean} on average, the integral {integral}");
         assert!((mean - integral).abs() < 0.01, "{mean} against {integral}");
+    }
+
+    #[test]
+    fn coverage_blended_eight_at_a_time_is_blended_pixel_by_pixel() {
+        // The AVX2 blend of a row of coverages gives `Ink::blend`'s bytes, for opaque
+        // and translucent inks, rows of every length up to 40 (eight at a time and the
+        // rest one by one), coverages of 0, 255 and between, and groups of eight
+        // uncovered pixels (skipped) among covered ones.
+        if !super::super::avx2::available() {
+            eprintln!("no AVX2 here: nothing to compare");
+            return;
+        }
+        let mut state = 0x853C_49E6_748F_EA9Bu64;
+        let mut byte = move || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 56) as u8
+        };
+        let inks = [
+            Ink::of(Color::from_rgba8(0x55, 0x55, 0x55, 0xff)),
+            Ink::of(Color::from_rgba8(0x1f, 0x77, 0xb4, 0x8c)),
+            Ink::of(Color::from_rgba8(0xff, 0x00, 0x80, 0x01)),
+        ];
+        for ink in inks {
+            for len in 0..=40usize {
+                for round in 0..20 {
+                    let pixels: Vec<u8> = (0..4 * len).map(|_| byte()).collect();
+                    let cover: Vec<u8> = (0..len)
+                        .map(|i| match (byte() % 4, round % 3, i / 8 % 2) {
+                            // Whole groups of eight left uncovered in a third of rows.
+                            (_, 0, 1) => 0,
+                            (0, _, _) => 0,
+                            (1, _, _) => 255,
+                            _ => byte(),
+                        })
+                        .collect();
+                    let mut one = pixels.clone();
+                    for (p, &c) in one.chunks_exact_mut(4).zip(&cover) {
+                        if c != 0 {
+                            ink.blend(p, c);
+                        }
+                    }
+                    let mut eight = pixels;
+                    // SAFETY: the processor has AVX2 (checked above).
+                    unsafe { super::super::avx2::blend_coverage(&mut eight, &cover, &ink) };
+                    assert_eq!(eight, one, "{ink:?}, {len} pixels, {cover:?}");
+                }
+            }
+        }
     }
 
     #[test]
