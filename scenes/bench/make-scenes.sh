@@ -2,8 +2,8 @@
 # Writes the benchmark scenes of bodies written one `[[body]]` table each, as a user
 # writes them (issue #16): the same moving discs as circles-1000.toml, but in the
 # default colour cycle, and variants with 10,000 bodies, velocity arrows, trails, mixed
-# shapes, turning boxes, shapes of their own sizes with trails and springs shown as
-# coils. Run from the repository's root:
+# shapes, turning boxes, shapes of their own sizes with trails, and springs shown as
+# coils, scattered and in a cloth. Run from the repository's root:
 #   sh scenes/bench/make-scenes.sh
 # The numbers come from a Park-Miller generator (x <- 16807·x mod 2^31 - 1, exact in
 # awk's doubles) and are printed with 4 decimals, so every run writes the same files.
@@ -209,6 +209,38 @@ springs() {
     springs 300
     footer
 } >springs-300.toml
+
+# cloth COLUMNS ROWS SEED: a grid of COLUMNS x ROWS discs in the default colours, 0.38
+# apart across and 0.33 up, each with a small velocity of its own, every one joined to
+# its neighbours to the left and below by springs at their rest lengths, shown as
+# coils: a cloth, the way a user builds a soft body, with short coils everywhere.
+cloth() {
+    awk -v cols="$1" -v rows="$2" -v seed="$3" '
+    function rnd() { x = (x * 16807) % 2147483647; return x / 2147483647 }
+    function uniform(a, b) { return a + (b - a) * rnd() }
+    BEGIN {
+        x = seed
+        for (i = 0; i < cols; i++)
+            for (j = 0; j < rows; j++) {
+                printf "[[body]]\nname = \"n%d_%d\"\nmass = 1.0\n", i, j
+                printf "position = [%.4f, %.4f]\n", 0.5 + 0.38 * i, 0.5 + 0.33 * j
+                printf "velocity = [%.4f, %.4f]\n", uniform(-0.3, 0.3), uniform(-0.3, 0.3)
+                print "shape = { circle = { radius = 0.04 } }"
+            }
+        printf "\n"
+        for (i = 0; i < cols; i++)
+            for (j = 0; j < rows; j++) {
+                if (i > 0) printf "[[force]]\nkind = \"spring\"\na = \"n%d_%d\"\nb = \"n%d_%d\"\nstiffness = 5.0\nrest_length = 0.38\n\n", i, j, i - 1, j
+                if (j > 0) printf "[[force]]\nkind = \"spring\"\na = \"n%d_%d\"\nb = \"n%d_%d\"\nstiffness = 5.0\nrest_length = 0.33\n\n", i, j, i, j - 1
+            }
+    }'
+}
+
+{
+    header cloth-1000 "a cloth of 40 x 25 discs in the default colours joined to their neighbours by 1935 springs shown as coils." 10.0 "show_springs = true"
+    cloth 40 25 61
+    footer
+} >cloth-1000.toml
 
 # mixed_contacts COUNT SEED: COUNT circles, boxes and triangles in a grid above a tilted
 # static ramp and a static floor, each at its own angle with a small velocity, arrows on
