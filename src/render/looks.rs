@@ -328,6 +328,44 @@ impl Looks {
                     .map(|c| SpriteSheet::with_coverage(Arc::clone(c), &look.body));
             }
         }
+        prepare_fixed_bins(&looks);
         Looks { looks, look_of }
     }
+}
+
+/// Makes, on every core at once, the angle bins that the looks at fixed angles stamp.
+/// Made at their first stamps, as a turning look's are, they were made one after the
+/// other by the worker drawing the first frame, the other waiting on them: crates at
+/// angles of their own take most of their shapes' bins, 64 sprites each, and
+/// `crates-1000`'s first frame took 0.23 s, a third of its 301 frames' render.
+fn prepare_fixed_bins(looks: &[Look]) {
+    let mut wanted: Vec<((usize, usize), &TurningSheet, f64)> = looks
+        .iter()
+        .filter_map(|l| {
+            let (sheet, theta) = (l.turning.as_ref()?, l.fixed_angle?);
+            Some((sheet.bin_of(theta), sheet, theta))
+        })
+        .collect();
+    wanted.sort_by_key(|w| w.0);
+    wanted.dedup_by_key(|w| w.0);
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .clamp(1, wanted.len().max(1));
+    if wanted.len() < 2 || threads == 1 {
+        for (_, sheet, theta) in &wanted {
+            sheet.prepare(*theta);
+        }
+        return;
+    }
+    // Every thread takes every threads-th bin, so that each has bins of every shape.
+    std::thread::scope(|scope| {
+        for first in 0..threads {
+            let wanted = &wanted;
+            scope.spawn(move || {
+                for (_, sheet, theta) in wanted.iter().skip(first).step_by(threads) {
+                    sheet.prepare(*theta);
+                }
+            });
+        }
+    });
 }

@@ -169,6 +169,22 @@ impl TurningSheet {
         }
     }
 
+    /// Returns which sprites a stamp at angle `theta` takes: its coverage (by address)
+    /// and angle bin, so that looks at fixed angles can share the making of them.
+    pub fn bin_of(&self, theta: f64) -> (usize, usize) {
+        (
+            Arc::as_ptr(&self.coverage) as usize,
+            self.coverage.bin(theta),
+        )
+    }
+
+    /// Makes the sprites of the angle bin of `theta` now, if they are not made yet,
+    /// rather than at the first stamp that needs them.
+    pub fn prepare(&self, theta: f64) {
+        let bin = self.coverage.bin(theta);
+        self.coverage.bins[bin].get_or_init(|| self.coverage.rasterise(bin));
+    }
+
     /// Stamps the look with its centre at pixel (x, y) turned by `theta`, both rounded
     /// as the module explains. Parts outside the pixmap are skipped.
     pub fn stamp(&self, pixmap: &mut Pixmap, x: f32, y: f32, theta: f64) {
