@@ -175,6 +175,35 @@ unsafe fn over_avx2(dst: &mut [u8], src: &[[u8; 4]]) {
     over(dst8.into_remainder(), src8.remainder());
 }
 
+impl Picture {
+    /// Keeps the smallest rectangle of the pixmap holding every pixel drawn; (dx, dy)
+    /// is where its top-left sits relative to the position it was drawn for.
+    fn trimmed(pixmap: &Pixmap, dx: i32, dy: i32) -> Picture {
+        let (w, h) = (pixmap.width() as usize, pixmap.height() as usize);
+        let at = |x: usize, y: usize| {
+            let k = 4 * (y * w + x);
+            let d = pixmap.data();
+            [d[k], d[k + 1], d[k + 2], d[k + 3]]
+        };
+        let Some((x0, y0, width, height, rgba)) = trim(w, h, at, |p| p[3] != 0) else {
+            return Picture {
+                dx,
+                dy,
+                width: 0,
+                height: 0,
+                rgba: Vec::new(),
+            };
+        };
+        Picture {
+            dx: dx + x0 as i32,
+            dy: dy + y0 as i32,
+            width,
+            height,
+            rgba,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -216,35 +245,6 @@ mod tests {
                 unsafe { over_avx2(&mut eight, &src) };
                 assert_eq!(eight, one, "{len} pixels, {src:?}");
             }
-        }
-    }
-}
-
-impl Picture {
-    /// Keeps the smallest rectangle of the pixmap holding every pixel drawn; (dx, dy)
-    /// is where its top-left sits relative to the position it was drawn for.
-    fn trimmed(pixmap: &Pixmap, dx: i32, dy: i32) -> Picture {
-        let (w, h) = (pixmap.width() as usize, pixmap.height() as usize);
-        let at = |x: usize, y: usize| {
-            let k = 4 * (y * w + x);
-            let d = pixmap.data();
-            [d[k], d[k + 1], d[k + 2], d[k + 3]]
-        };
-        let Some((x0, y0, width, height, rgba)) = trim(w, h, at, |p| p[3] != 0) else {
-            return Picture {
-                dx,
-                dy,
-                width: 0,
-                height: 0,
-                rgba: Vec::new(),
-            };
-        };
-        Picture {
-            dx: dx + x0 as i32,
-            dy: dy + y0 as i32,
-            width,
-            height,
-            rgba,
         }
     }
 }
