@@ -22,12 +22,19 @@
 //! 4x, 0, 4) times 16, less 1 where the row's last sub-row covers it whole (o = 4), so
 //! that a covered pixel sums to 255; a sum c is capped as Skia caps it, c - (c >> 8),
 //! at most 255; and the blend is [`Ink::blend`]'s (div255(v) = (v + 255) >> 8).
+//!
+//! `coverage.rs` blends coverages given pixel by pixel (a coil's, a sprite's fill and
+//! edge) eight pixels at a time with [`mix`], the same bytes as [`Ink::blend`].
 
 use std::arch::x86_64::*;
 
 use super::convex::{blend_tail, weighed, Chains, RowSpans};
 use super::eight::prefetch;
 use crate::render::sprite::Ink;
+
+mod coverage;
+pub(in crate::render::raster) use coverage::blend_coverage;
+pub(crate) use coverage::stamp_row;
 
 /// The widest image drawn here. Crossings are 16.16 fixed point of quarter-pixel
 /// columns, below 4 · 4096 · 65536 = 2^30 inside an image this wide (the chains are
@@ -37,14 +44,14 @@ pub(super) const MAX_WIDTH: usize = 4096;
 
 /// Returns true when the processor has AVX2 (checked once, then cached by the
 /// standard library).
-pub(super) fn available() -> bool {
+pub(crate) fn available() -> bool {
     is_x86_feature_detected!("avx2")
 }
 
 /// Byte indices that take 16-bit words `lo` into the low half of a register and `hi`
 /// into the high half, each word named by its index in a 128-bit source repeated in
 /// both halves (for `_mm256_shuffle_epi8`).
-const fn words(lo: [u8; 8], hi: [u8; 8]) -> [u8; 32] {
+pub(super) const fn words(lo: [u8; 8], hi: [u8; 8]) -> [u8; 32] {
     let mut out = [0u8; 32];
     let mut i = 0;
     while i < 8 {
@@ -65,8 +72,8 @@ const SELECT_B01: [u8; 32] = words([4; 8], [5; 8]);
 const SELECT_B23: [u8; 32] = words([6; 8], [7; 8]);
 /// From the words c0..c7: each pixel's coverage in its four channels' lanes, pixels
 /// 0 to 3, then 4 to 7.
-const SELECT_C0: [u8; 32] = words([0, 0, 0, 0, 1, 1, 1, 1], [2, 2, 2, 2, 3, 3, 3, 3]);
-const SELECT_C1: [u8; 32] = words([4, 4, 4, 4, 5, 5, 5, 5], [6, 6, 6, 6, 7, 7, 7, 7]);
+pub(super) const SELECT_C0: [u8; 32] = words([0, 0, 0, 0, 1, 1, 1, 1], [2, 2, 2, 2, 3, 3, 3, 3]);
+pub(super) const SELECT_C1: [u8; 32] = words([4, 4, 4, 4, 5, 5, 5, 5], [6, 6, 6, 6, 7, 7, 7, 7]);
 /// For four pixels: a0..a3 and b0..b3 each in four lanes (pixel j of sub-row k in
 /// lane 4k + j).
 const SELECT_A4: [u8; 32] = words([0, 0, 0, 0, 1, 1, 1, 1], [2, 2, 2, 2, 3, 3, 3, 3]);
@@ -81,7 +88,7 @@ const SHORT4: [i16; 16] = [0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1];
 
 /// Loads 32 bytes of byte indices.
 #[inline(always)]
-fn bytes(v: &[u8; 32]) -> __m256i {
+pub(super) fn bytes(v: &[u8; 32]) -> __m256i {
     // SAFETY: `v` is 32 bytes; the load is unaligned.
     unsafe { _mm256_loadu_si256(v.as_ptr().cast()) }
 }
@@ -388,65 +395,6 @@ fn fill_colour(px: &mut [u8], ink: &Ink) {
     }
 }
 
-/// Blends `ink` into the pixels `px` (four bytes each) with a coverage byte each from
-/// `cover` (as many as there are pixels): [`Ink::blend`]'s bytes, eight pixels in two
-/// registers at a time, eight uncovered pixels skipped at once. A pixel of coverage 0
-/// in a group is blended with the rest and keeps its bytes, for div255(255·d) = d and
-/// div255(s·0) = 0.
-///
-/// # Safety
-/// The processor must have AVX2 ([`available`]).
-#[target_feature(enable = "avx2")]
-pub(super) unsafe fn blend_coverage(px: &mut [u8], cover: &[u8], ink: &Ink) {
-    debug_assert_eq!(px.len(), 4 * cover.len());
-    if ink.is_opaque() {
-        blend_coverage_with::<true>(px, cover, ink);
-    } else {
-        blend_coverage_with::<false>(px, cover, ink);
-    }
-}
-
-/// [`blend_coverage`] for an opaque ink (`O`) or a translucent one.
-#[inline]
-#[target_feature(enable = "avx2")]
-fn blend_coverage_with<const O: bool>(px: &mut [u8], cover: &[u8], ink: &Ink) {
-    let mut pixels = px.chunks_exact_mut(32);
-    let mut covers = cover.chunks_exact(8);
-    for (p8, c8) in (&mut pixels).zip(&mut covers) {
-        let c = u64::from_le_bytes(c8.try_into().expect("eight coverages"));
-        if c == 0 {
-            continue;
-        }
-        // The eight coverages as words in both halves, then each pixel's in its four
-        // channels' lanes.
-        let c = _mm256_broadcastsi128_si256(_mm_cvtepu8_epi16(_mm_cvtsi64_si128(c as i64)));
-        let ptr = p8.as_mut_ptr() as *mut __m256i;
-        // SAFETY: the chunk is 32 bytes, loaded and stored unaligned.
-        let p = unsafe { _mm256_loadu_si256(ptr) };
-        let out = [
-            mix::<O>(
-                _mm256_cvtepu8_epi16(_mm256_castsi256_si128(p)),
-                _mm256_shuffle_epi8(c, bytes(&SELECT_C0)),
-                ink,
-            ),
-            mix::<O>(
-                _mm256_cvtepu8_epi16(_mm256_extracti128_si256::<1>(p)),
-                _mm256_shuffle_epi8(c, bytes(&SELECT_C1)),
-                ink,
-            ),
-        ];
-        // The pack interleaves the halves; put the pixels back in order.
-        let packed = _mm256_permute4x64_epi64::<0b11_01_10_00>(_mm256_packus_epi16(out[0], out[1]));
-        unsafe { _mm256_storeu_si256(ptr, packed) };
-    }
-    let rest = pixels.into_remainder().chunks_exact_mut(4);
-    for (p, &c) in rest.zip(covers.remainder()) {
-        if c != 0 {
-            ink.blend(p, c);
-        }
-    }
-}
-
 /// The spans a..b as 16-bit columns relative to pixel x0's first (4·x0), clamped
 /// where every lane's clamp below gives the same (as `eight.rs`'s `relative`): the
 /// words a0..a3, b0..b3, in both halves of the register.
@@ -491,7 +439,7 @@ fn cap(c: __m128i) -> __m128i {
 /// `cover` (each pixel's in its four channels' lanes): [`Ink::blend`]'s arithmetic.
 #[inline]
 #[target_feature(enable = "avx2")]
-fn mix<const O: bool>(d: __m256i, cover: __m256i, ink: &Ink) -> __m256i {
+pub(super) fn mix<const O: bool>(d: __m256i, cover: __m256i, ink: &Ink) -> __m256i {
     let [r, g, b, a] = ink.rgba().map(|v| v as i16);
     let s = _mm256_setr_epi16(r, g, b, a, r, g, b, a, r, g, b, a, r, g, b, a);
     let ff = _mm256_set1_epi16(255);
