@@ -333,14 +333,15 @@ impl Sprite {
 
     /// Blends the fill, then the outline, with the sprite's top-left pixel at (x, y).
     pub(crate) fn stamp(&self, pixmap: &mut Pixmap, x: i64, y: i64, fill: Ink, edge: Ink) {
-        if crate::render::raster::avx2_available() {
-            self.rows(pixmap, x, y, |pixels, covers| {
+        // Rows of eight pixels or more eight at a time (the same bytes); shorter ones,
+        // all the rows of a small disc's sprite, without the call.
+        let avx2 = crate::render::raster::avx2_available();
+        self.rows(pixmap, x, y, |pixels, covers| {
+            if avx2 && covers.len() >= 8 {
                 // SAFETY: the processor has AVX2.
                 unsafe { crate::render::raster::stamp_row(pixels, covers, &fill, &edge) };
-            });
-            return;
-        }
-        self.rows(pixmap, x, y, |pixels, covers| {
+                return;
+            }
             for (d, [c_fill, c_edge]) in pixels.chunks_exact_mut(4).zip(covers) {
                 if *c_fill != 0 {
                     fill.blend(d, *c_fill);
