@@ -7,7 +7,7 @@
 
 use std::arch::x86_64::*;
 
-use super::{bytes, mix, words, SELECT_C0, SELECT_C1};
+use super::{blend8_covered, bytes, mix, words};
 use crate::render::sprite::Ink;
 
 /// Blends `ink` into the pixels `px` (four bytes each) with a coverage byte each from
@@ -39,27 +39,10 @@ fn blend_coverage_with<const O: bool>(px: &mut [u8], cover: &[u8], ink: &Ink) {
         if c == 0 {
             continue;
         }
-        // The eight coverages as words in both halves, then each pixel's in its four
-        // channels' lanes.
+        // The eight coverages as words in both halves.
         let c = _mm256_broadcastsi128_si256(_mm_cvtepu8_epi16(_mm_cvtsi64_si128(c as i64)));
-        let ptr = p8.as_mut_ptr() as *mut __m256i;
-        // SAFETY: the chunk is 32 bytes, loaded and stored unaligned.
-        let p = unsafe { _mm256_loadu_si256(ptr) };
-        let out = [
-            mix::<O>(
-                _mm256_cvtepu8_epi16(_mm256_castsi256_si128(p)),
-                _mm256_shuffle_epi8(c, bytes(&SELECT_C0)),
-                ink,
-            ),
-            mix::<O>(
-                _mm256_cvtepu8_epi16(_mm256_extracti128_si256::<1>(p)),
-                _mm256_shuffle_epi8(c, bytes(&SELECT_C1)),
-                ink,
-            ),
-        ];
-        // The pack interleaves the halves; put the pixels back in order.
-        let packed = _mm256_permute4x64_epi64::<0b11_01_10_00>(_mm256_packus_epi16(out[0], out[1]));
-        unsafe { _mm256_storeu_si256(ptr, packed) };
+        let p8: &mut [u8; 32] = p8.try_into().expect("eight pixels are 32 bytes");
+        blend8_covered::<O>(p8, c, ink);
     }
     let rest = pixels.into_remainder().chunks_exact_mut(4);
     for (p, &c) in rest.zip(covers.remainder()) {

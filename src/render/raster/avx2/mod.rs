@@ -72,8 +72,8 @@ const SELECT_B01: [u8; 32] = words([4; 8], [5; 8]);
 const SELECT_B23: [u8; 32] = words([6; 8], [7; 8]);
 /// From the words c0..c7: each pixel's coverage in its four channels' lanes, pixels
 /// 0 to 3, then 4 to 7.
-pub(super) const SELECT_C0: [u8; 32] = words([0, 0, 0, 0, 1, 1, 1, 1], [2, 2, 2, 2, 3, 3, 3, 3]);
-pub(super) const SELECT_C1: [u8; 32] = words([4, 4, 4, 4, 5, 5, 5, 5], [6, 6, 6, 6, 7, 7, 7, 7]);
+const SELECT_C0: [u8; 32] = words([0, 0, 0, 0, 1, 1, 1, 1], [2, 2, 2, 2, 3, 3, 3, 3]);
+const SELECT_C1: [u8; 32] = words([4, 4, 4, 4, 5, 5, 5, 5], [6, 6, 6, 6, 7, 7, 7, 7]);
 /// For four pixels: a0..a3 and b0..b3 each in four lanes (pixel j of sub-row k in
 /// lane 4k + j).
 const SELECT_A4: [u8; 32] = words([0, 0, 0, 0, 1, 1, 1, 1], [2, 2, 2, 2, 3, 3, 3, 3]);
@@ -477,7 +477,14 @@ fn blend8<const O: bool>(px: &mut [u8; 32], x0: i64, a: __m128i, b: __m128i, ink
         _mm256_castsi256_si128(sum),
         _mm256_extracti128_si256::<1>(sum),
     ));
-    let c = _mm256_broadcastsi128_si256(c);
+    blend8_covered::<O>(px, _mm256_broadcastsi128_si256(c), ink);
+}
+
+/// Blends `ink` into the eight pixels `px` with coverages `c` (eight 16-bit words, in
+/// both halves of the register): [`mix`] on each half's four pixels.
+#[inline]
+#[target_feature(enable = "avx2")]
+pub(super) fn blend8_covered<const O: bool>(px: &mut [u8; 32], c: __m256i, ink: &Ink) {
     let ptr = px.as_mut_ptr() as *mut __m256i;
     // SAFETY: `px` is 32 bytes, loaded unaligned.
     let p = unsafe { _mm256_loadu_si256(ptr) };
