@@ -333,11 +333,11 @@ impl Sprite {
 
     /// Blends the fill, then the outline, with the sprite's top-left pixel at (x, y).
     pub(crate) fn stamp(&self, pixmap: &mut Pixmap, x: i64, y: i64, fill: Ink, edge: Ink) {
-        // Rows of eight pixels or more eight at a time (the same bytes); shorter ones,
-        // all the rows of a small disc's sprite, without the call.
+        // Rows of four pixels or more eight and four at a time (the same bytes);
+        // shorter ones without the call.
         let avx2 = crate::render::raster::avx2_available();
         self.rows(pixmap, x, y, |pixels, covers| {
-            if avx2 && covers.len() >= 8 {
+            if avx2 && covers.len() >= 4 {
                 // SAFETY: the processor has AVX2.
                 unsafe { crate::render::raster::stamp_row(pixels, covers, &fill, &edge) };
                 return;

@@ -61,7 +61,8 @@ const SELECT_EDGE: [u8; 32] = words([1, 1, 1, 1, 3, 3, 3, 3], [5, 5, 5, 5, 7, 7,
 /// Stamps a row of a sprite: blends `fill`, then `edge`, into the pixels `px` (four
 /// bytes each) with each pixel's coverages [fill, edge] from `covers` (as many as
 /// there are pixels): the bytes of [`Ink::blend`] called for each nonzero coverage,
-/// eight pixels in two registers at a time, eight uncovered pixels skipped at once. A
+/// eight pixels in two registers at a time, eight uncovered pixels skipped at once,
+/// then four in one register where four are left. A
 /// coverage of 0 in a group blended whole leaves the pixel's bytes (div255(255·d) =
 /// d, div255(s·0) = 0), and one of 255 in an opaque ink gives the ink's colour, as
 /// `Ink::blend`'s shortcut does.
@@ -125,8 +126,28 @@ fn stamp_row_with<const F: bool, const E: bool>(
         let packed = _mm256_permute4x64_epi64::<0b11_01_10_00>(_mm256_packus_epi16(out[0], out[1]));
         unsafe { _mm256_storeu_si256(ptr, packed) };
     }
-    let rest = pixels.into_remainder().chunks_exact_mut(4);
-    for (d, &[f, e]) in rest.zip(groups.remainder()) {
+    // Four of the pixels left in one register, when there are four.
+    let (mut rest, mut left) = (pixels.into_remainder(), groups.remainder());
+    if left.len() >= 4 {
+        let (p4, more) = rest.split_at_mut(16);
+        // SAFETY: four pairs of coverages are 8 bytes, four pixels 16, both loaded (and
+        // the pixels stored) unaligned.
+        let c = unsafe { _mm_loadl_epi64(left.as_ptr().cast()) };
+        if _mm_testz_si128(c, c) == 0 {
+            let quad = _mm256_broadcastsi128_si256(_mm_cvtepu8_epi16(c));
+            let ptr = p4.as_mut_ptr() as *mut __m128i;
+            let d = _mm256_cvtepu8_epi16(unsafe { _mm_loadu_si128(ptr) });
+            let filled = mix::<F>(d, _mm256_shuffle_epi8(quad, bytes(&SELECT_FILL)), fill);
+            let out = mix::<E>(filled, _mm256_shuffle_epi8(quad, bytes(&SELECT_EDGE)), edge);
+            let packed = _mm_packus_epi16(
+                _mm256_castsi256_si128(out),
+                _mm256_extracti128_si256::<1>(out),
+            );
+            unsafe { _mm_storeu_si128(ptr, packed) };
+        }
+        (rest, left) = (more, &left[4..]);
+    }
+    for (d, &[f, e]) in rest.chunks_exact_mut(4).zip(left) {
         if f != 0 {
             fill.blend(d, f);
         }
