@@ -217,13 +217,7 @@ mod tests {
             eprintln!("no AVX2 here: nothing to compare");
             return;
         }
-        let mut state = 0x2545_F491_4F6C_DD1Du64;
-        let mut byte = move || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 56) as u8
-        };
+        let mut byte = crate::render::raster::test_bytes(0x2545_F491_4F6C_DD1Du64);
         for len in 0..=40usize {
             for round in 0..50 {
                 let src: Vec<[u8; 4]> = (0..len)

@@ -496,13 +496,7 @@ mod tests {
             eprintln!("no AVX2 here: nothing to compare");
             return;
         }
-        let mut state = 0x853C_49E6_748F_EA9Bu64;
-        let mut byte = move || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 56) as u8
-        };
+        let mut byte = super::super::test_bytes(0x853C_49E6_748F_EA9Bu64);
         let inks = [
             Ink::of(Color::from_rgba8(0x55, 0x55, 0x55, 0xff)),
             Ink::of(Color::from_rgba8(0x1f, 0x77, 0xb4, 0x8c)),

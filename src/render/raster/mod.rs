@@ -382,6 +382,18 @@ fn accumulate(row: &mut [u16], a: i64, b: i64, full: u16) {
     }
 }
 
+/// Pseudo-random bytes for the tests that compare a wide loop with its pixel loop: a
+/// 64-bit linear congruential generator's top byte, from `state`.
+#[cfg(test)]
+pub(crate) fn test_bytes(mut state: u64) -> impl FnMut() -> u8 {
+    move || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 56) as u8
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -162,16 +162,6 @@ mod tests {
     use super::*;
     use tiny_skia::Color;
 
-    /// A generator of bytes (a 64-bit linear congruential one's top byte).
-    fn bytes_from(mut state: u64) -> impl FnMut() -> u8 {
-        move || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 56) as u8
-        }
-    }
-
     /// A coverage: 0 and 255 often, whole groups of eight left at 0 in a third of the
     /// rows, and anything between.
     fn coverage(byte: &mut impl FnMut() -> u8, round: usize, i: usize) -> u8 {
@@ -190,7 +180,7 @@ mod tests {
             eprintln!("no AVX2 here: nothing to compare");
             return;
         }
-        let mut byte = bytes_from(0x9E37_79B9_7F4A_7C15);
+        let mut byte = crate::render::raster::test_bytes(0x9E37_79B9_7F4A_7C15);
         let opaque = Ink::of(Color::from_rgba8(0x1f, 0x77, 0xb4, 0xff));
         let dark = Ink::of(Color::from_rgba8(0x10, 0x3c, 0x5a, 0xff));
         let faint = Ink::of(Color::from_rgba8(0xd6, 0x27, 0x28, 0x80));
