@@ -19,7 +19,7 @@
 use tiny_skia::Pixmap;
 
 use super::frame::{finish_png, next_bit, start_png};
-use super::static_rows::{Item, Sums};
+use super::static_rows::{Sums, ADLER};
 use super::*;
 use crate::render::damage::TileMask;
 use crate::render::raster::prefetch;
@@ -39,11 +39,11 @@ pub struct FrameCoder {
     /// Row by row, the last frame's tiles whose filtered bytes are not all zero, with
     /// their bits' positions in `png` (absolute, in bits), then a sentinel holding the
     /// row's sums, as [`Compressed`] keeps a static layer's.
-    items: Vec<Item>,
+    items: Vec<Tile>,
     /// For each row, the index in `items` of its first item.
     row_items: Vec<u32>,
     /// The same for the frame being encoded.
-    next_items: Vec<Item>,
+    next_items: Vec<Tile>,
     next_row_items: Vec<u32>,
     /// One filtered row, and its tiles to compress afresh (bit t of word t / 64).
     filtered: Vec<u8>,
@@ -163,10 +163,10 @@ impl FrameCoder {
             adler.add_byte(UP);
             w.literal(usize::from(UP));
             self.next_row_items.push(self.next_items.len() as u32);
-            // Σ f_i and Σ i·f_i over the row's filtered bytes so far.
-            let (mut sum, mut weighted) = (0u32, 0u64);
+            // Σ f_i and Σ i·f_i over the row's filtered bytes so far, modulo 65521.
+            let (mut sum, mut weighted) = (0u32, 0u32);
             // The row's items of the frame before, its sentinel last.
-            let old: &[Item] = match previous {
+            let old: &[Tile] = match previous {
                 Some(_) => {
                     let end = self
                         .row_items
@@ -208,8 +208,8 @@ impl FrameCoder {
                         // (own marks 1.30 ms against 1.23, `ONLY_OWN=1`).
                         let shift = at.wrapping_sub(before.start);
                         let (ds, dw) = (
-                            sum.wrapping_sub(before.sum),
-                            weighted.wrapping_sub(before.weighted),
+                            sub_mod(sum, before.sum.into()),
+                            sub_mod(weighted, before.weighted.into()),
                         );
                         let n = self.next_items.len();
                         self.next_items.reserve(old.len() - i);
@@ -218,25 +218,28 @@ impl FrameCoder {
                             if it.from as usize >= end {
                                 break;
                             }
-                            to.write(Item {
+                            to.write(Tile {
                                 start: it.start.wrapping_add(shift),
-                                end: it.end.wrapping_add(shift),
-                                sum: it.sum.wrapping_add(ds),
-                                weighted: it.weighted.wrapping_add(dw),
+                                sum: add_mod(it.sum.into(), ds) as u16,
+                                weighted: add_mod(it.weighted.into(), dw) as u16,
                                 ..*it
                             });
                             j += 1;
                         }
                         // SAFETY: the j - i records past the length were written above.
                         unsafe { self.next_items.set_len(n + j - i) };
-                        w.put_bit_range(stream, before.start as usize, old[j - 1].end as usize);
-                        w.run = q - old[j - 1].to as usize;
+                        let last = old[j - 1];
+                        w.put_bit_range(stream, before.start as usize, last.end() as usize);
+                        w.run = q - last.to() as usize;
                     } else {
                         w.run += q - p;
                     }
                     let after = old[j];
-                    sum += after.sum - before.sum;
-                    weighted += after.weighted - before.weighted;
+                    sum = add_mod(sum, sub_mod(after.sum.into(), before.sum.into()));
+                    weighted = add_mod(
+                        weighted,
+                        sub_mod(after.weighted.into(), before.weighted.into()),
+                    );
                     i = j;
                 }
                 if d == tiles_per_row {
@@ -253,18 +256,21 @@ impl FrameCoder {
                 // recorded with its sums; a short last tile of the row on its own.
                 let items = &mut self.next_items;
                 let mut record =
-                    |at: usize, (from, to, s, v): (usize, usize, u32, u32), start, end| {
-                        items.push(Item {
+                    |at: usize, (from, to, s, v): (usize, usize, u32, u32), start: usize, end| {
+                        debug_assert!(end - start <= usize::from(u16::MAX), "a tile's bits");
+                        items.push(Tile {
                             from: (at + from) as u32,
-                            to: (at + to) as u32,
+                            span: (to - from) as u8,
                             start: start as u32,
-                            end: end as u32,
-                            sum,
-                            weighted,
+                            bits: (end - start) as u16,
+                            sum: sum as u16,
+                            weighted: weighted as u16,
                         });
-                        // Σ i·f_i = Σ (at + j)·f_j over the row.
-                        sum += s;
-                        weighted += at as u64 * u64::from(s) + u64::from(v);
+                        // Σ f_i, and Σ i·f_i = Σ (at + j)·f_j over the row, modulo
+                        // 65521 (a tile's Σ f_j is at most 32 · 255, under it).
+                        sum = add_mod(sum, s);
+                        let w = (at as u64 * u64::from(s) + u64::from(v)) % ADLER;
+                        weighted = add_mod(weighted, w as u32);
                     };
                 let whole = (b - a) / TILE;
                 w.bytes_tiles(
@@ -289,16 +295,18 @@ impl FrameCoder {
             // The sentinel: past the last tile, with the row's sums; the row's Adler-32
             // sums follow from them: s1 = Σ f_i and s2 = Σ (L - i)·f_i = L·s1 - Σ i·f_i.
             let past = (tiles_per_row * TILE) as u32;
-            self.next_items.push(Item {
+            self.next_items.push(Tile {
                 from: past,
-                to: past,
+                span: 0,
                 start: 0,
-                end: 0,
-                sum,
-                weighted,
+                bits: 0,
+                sum: sum as u16,
+                weighted: weighted as u16,
             });
+            // s2 = L·s1 - Σ i·f_i, modulo 65521.
             let len = stride as u64;
-            adler.add_sums(len, u64::from(sum), len * u64::from(sum) - weighted);
+            let s2 = (len % ADLER * u64::from(sum) + ADLER - u64::from(weighted)) % ADLER;
+            adler.add_sums(len, u64::from(sum), s2);
             adler.reduce();
         }
         self.dirty = dirty;
@@ -308,6 +316,58 @@ impl FrameCoder {
         self.spare = previous.unwrap_or_default();
         self.png.insert(png).as_slice()
     }
+}
+
+/// A nonzero tile of the last frame's row, or the row's sentinel: 16 bytes, so that
+/// the records a frame copies for its clean tiles (one a tile, most of a frame with
+/// trails) take half the memory the static layer's [`super::static_rows::Item`] would.
+#[derive(Clone, Copy, Debug, Default)]
+struct Tile {
+    /// The index in the row of its first nonzero byte, and how many bytes from it to
+    /// one past its last (0 for the sentinel).
+    from: u32,
+    span: u8,
+    /// Where its bits start in the PNG, and how many there are.
+    start: u32,
+    bits: u16,
+    /// Over the row's filtered bytes f_i before it: Σ f_i and Σ i·f_i with i the
+    /// byte's index in the row, both modulo 65521, which is all Adler-32 keeps; the
+    /// sums of any clean span follow from two differences of these.
+    sum: u16,
+    weighted: u16,
+}
+
+const _: () = assert!(std::mem::size_of::<Tile>() == 16);
+
+impl Tile {
+    /// One past the index of its last nonzero byte.
+    #[inline(always)]
+    fn to(&self) -> u32 {
+        self.from + u32::from(self.span)
+    }
+
+    /// Where its bits end in the PNG.
+    #[inline(always)]
+    fn end(&self) -> u32 {
+        self.start.wrapping_add(u32::from(self.bits))
+    }
+}
+
+/// a + b modulo 65521, for a and b below it.
+#[inline(always)]
+fn add_mod(a: u32, b: u32) -> u32 {
+    let x = a + b;
+    if x >= ADLER as u32 {
+        x - ADLER as u32
+    } else {
+        x
+    }
+}
+
+/// a - b modulo 65521, for a and b below it.
+#[inline(always)]
+fn sub_mod(a: u32, b: u32) -> u32 {
+    add_mod(a, ADLER as u32 - b)
 }
 
 /// How many rows ahead [`FrameCoder::encode`] asks for the pixels of the tiles it will
