@@ -19,7 +19,7 @@
 use tiny_skia::Pixmap;
 
 use super::frame::{finish_png, next_bit, start_png};
-use super::static_rows::{Sums, ADLER};
+use super::static_rows::Sums;
 use super::*;
 use crate::render::damage::TileMask;
 use crate::render::raster::prefetch;
@@ -45,6 +45,17 @@ pub struct FrameCoder {
     /// The same for the frame being encoded.
     next_items: Vec<Tile>,
     next_row_items: Vec<u32>,
+    /// Every tile's own sums in the last frame, row after row: Σ f_j over its
+    /// filtered bytes f_0..f_31 in bits 0 to 12 (at most 32 · 255) and Σ j·f_j in bits
+    /// 13 to 29 (at most 496 · 255), zero for a tile of zeros. A frame writes those of
+    /// the tiles it compresses afresh; a clean tile's stay from the frame before, as
+    /// its bytes do. They are kept apart from the records so that copying a clean
+    /// span's records changes one field of each.
+    own: Vec<u32>,
+    /// Each row's Σ f_i and Σ i·f_i over its filtered bytes in the last frame: a
+    /// frame takes from them the sums of the tiles it compresses afresh and adds their
+    /// new ones, so that clean tiles are not read for Adler-32.
+    row_sums: Vec<(u64, u64)>,
     /// One filtered row, and its tiles to compress afresh (bit t of word t / 64).
     filtered: Vec<u8>,
     dirty: Vec<u64>,
@@ -70,6 +81,8 @@ impl FrameCoder {
             row_items: Vec::new(),
             next_items: Vec::new(),
             next_row_items: Vec::new(),
+            own: vec![0; stride.div_ceil(TILE) * height as usize],
+            row_sums: vec![(0, 0); height as usize],
             filtered: vec![0; stride],
             dirty: vec![0; stride.div_ceil(TILE).div_ceil(64)],
         })
@@ -163,8 +176,14 @@ impl FrameCoder {
             adler.add_byte(UP);
             w.literal(usize::from(UP));
             self.next_row_items.push(self.next_items.len() as u32);
-            // Σ f_i and Σ i·f_i over the row's filtered bytes so far, modulo 65521.
-            let (mut sum, mut weighted) = (0u32, 0u32);
+            let own = &mut self.own[y * tiles_per_row..(y + 1) * tiles_per_row];
+            // Σ f_i and Σ i·f_i over the row's filtered bytes: the last frame's, less
+            // the old sums of each tile compressed afresh plus its new ones; from
+            // nothing when every tile is.
+            let (mut sum, mut weighted) = match previous {
+                Some(_) => self.row_sums[y],
+                None => (0, 0),
+            };
             // The row's items of the frame before, its sentinel last.
             let old: &[Tile] = match previous {
                 Some(_) => {
@@ -194,8 +213,7 @@ impl FrameCoder {
                     if (before.from as usize) < end {
                         w.run += before.from as usize - p;
                         w.flush_run();
-                        // Each copied tile's bits move by the same amount, and its
-                        // sums by the difference between the sums before the span.
+                        // Each copied tile's bits move by the same amount.
                         let at = w.bit_position() as u32;
                         // Written moved into room made for every item left in the
                         // row, in the pass that finds the span's last: not checked item by item
@@ -207,10 +225,6 @@ impl FrameCoder {
                         // `trail_probe`), nor after a pass of its own to find the last
                         // (own marks 1.30 ms against 1.23, `ONLY_OWN=1`).
                         let shift = at.wrapping_sub(before.start);
-                        let (ds, dw) = (
-                            sub_mod(sum, before.sum.into()),
-                            sub_mod(weighted, before.weighted.into()),
-                        );
                         let n = self.next_items.len();
                         self.next_items.reserve(old.len() - i);
                         let room = self.next_items.spare_capacity_mut();
@@ -220,8 +234,6 @@ impl FrameCoder {
                             }
                             to.write(Tile {
                                 start: it.start.wrapping_add(shift),
-                                sum: add_mod(it.sum.into(), ds) as u16,
-                                weighted: add_mod(it.weighted.into(), dw) as u16,
                                 ..*it
                             });
                             j += 1;
@@ -234,12 +246,6 @@ impl FrameCoder {
                     } else {
                         w.run += q - p;
                     }
-                    let after = old[j];
-                    sum = add_mod(sum, sub_mod(after.sum.into(), before.sum.into()));
-                    weighted = add_mod(
-                        weighted,
-                        sub_mod(after.weighted.into(), before.weighted.into()),
-                    );
                     i = j;
                 }
                 if d == tiles_per_row {
@@ -253,7 +259,20 @@ impl FrameCoder {
                     None => self.filtered[a..b].copy_from_slice(&row[a..b]),
                 }
                 // Whole tiles in one stretch of the bit writer, each nonzero one
-                // recorded with its sums; a short last tile of the row on its own.
+                // recorded, with its sums; a short last tile of the row on its own.
+                // A tile of zeros is not recorded, and its sums are zero. Tile k's
+                // bytes f_j are the row's f_i at i = 32·k + j.
+                if previous.is_some() {
+                    for (k, o) in own.iter_mut().enumerate().take(t).skip(d) {
+                        let s = u64::from(*o & 0x1fff);
+                        sum = sum.wrapping_sub(s);
+                        weighted =
+                            weighted.wrapping_sub((TILE * k) as u64 * s + u64::from(*o >> 13));
+                        *o = 0;
+                    }
+                } else {
+                    own[d..t].fill(0);
+                }
                 let items = &mut self.next_items;
                 let mut record =
                     |at: usize, (from, to, s, v): (usize, usize, u32, u32), start: usize, end| {
@@ -263,14 +282,10 @@ impl FrameCoder {
                             span: (to - from) as u8,
                             start: start as u32,
                             bits: (end - start) as u16,
-                            sum: sum as u16,
-                            weighted: weighted as u16,
                         });
-                        // Σ f_i, and Σ i·f_i = Σ (at + j)·f_j over the row, modulo
-                        // 65521 (a tile's Σ f_j is at most 32 · 255, under it).
-                        sum = add_mod(sum, s);
-                        let w = (at as u64 * u64::from(s) + u64::from(v)) % ADLER;
-                        weighted = add_mod(weighted, w as u32);
+                        own[at / TILE] = s | v << 13;
+                        sum = sum.wrapping_add(u64::from(s));
+                        weighted = weighted.wrapping_add(at as u64 * u64::from(s) + u64::from(v));
                     };
                 let whole = (b - a) / TILE;
                 w.bytes_tiles(
@@ -292,21 +307,16 @@ impl FrameCoder {
                 }
                 first = t;
             }
-            // The sentinel: past the last tile, with the row's sums; the row's Adler-32
-            // sums follow from them: s1 = Σ f_i and s2 = Σ (L - i)·f_i = L·s1 - Σ i·f_i.
+            // The sentinel: past the last tile.
             let past = (tiles_per_row * TILE) as u32;
             self.next_items.push(Tile {
                 from: past,
-                span: 0,
-                start: 0,
-                bits: 0,
-                sum: sum as u16,
-                weighted: weighted as u16,
+                ..Tile::default()
             });
-            // s2 = L·s1 - Σ i·f_i, modulo 65521.
+            // The row's Adler-32 sums: s1 = Σ f_i and s2 = Σ (L - i)·f_i = L·s1 - Σ i·f_i.
+            self.row_sums[y] = (sum, weighted);
             let len = stride as u64;
-            let s2 = (len % ADLER * u64::from(sum) + ADLER - u64::from(weighted)) % ADLER;
-            adler.add_sums(len, u64::from(sum), s2);
+            adler.add_sums(len, sum, len * sum - weighted);
             adler.reduce();
         }
         self.dirty = dirty;
@@ -318,26 +328,24 @@ impl FrameCoder {
     }
 }
 
-/// A nonzero tile of the last frame's row, or the row's sentinel: 16 bytes, so that
-/// the records a frame copies for its clean tiles (one a tile, most of a frame with
-/// trails) take half the memory the static layer's [`super::static_rows::Item`] would.
+/// A nonzero tile of the last frame's row, or the row's sentinel (`from` past the
+/// row's last tile, nothing else): 12 bytes, where the static layer's
+/// [`super::static_rows::Item`] takes 32, so that the records a frame copies for its
+/// clean tiles (one a tile, most of a late frame with trails) take a third of the
+/// memory. Its sums are kept apart (`FrameCoder::own`), so a copied record changes
+/// in one field.
 #[derive(Clone, Copy, Debug, Default)]
 struct Tile {
     /// The index in the row of its first nonzero byte, and how many bytes from it to
-    /// one past its last (0 for the sentinel).
+    /// one past its last.
     from: u32,
     span: u8,
     /// Where its bits start in the PNG, and how many there are.
     start: u32,
     bits: u16,
-    /// Over the row's filtered bytes f_i before it: Σ f_i and Σ i·f_i with i the
-    /// byte's index in the row, both modulo 65521, which is all Adler-32 keeps; the
-    /// sums of any clean span follow from two differences of these.
-    sum: u16,
-    weighted: u16,
 }
 
-const _: () = assert!(std::mem::size_of::<Tile>() == 16);
+const _: () = assert!(std::mem::size_of::<Tile>() == 12);
 
 impl Tile {
     /// One past the index of its last nonzero byte.
@@ -351,23 +359,6 @@ impl Tile {
     fn end(&self) -> u32 {
         self.start.wrapping_add(u32::from(self.bits))
     }
-}
-
-/// a + b modulo 65521, for a and b below it.
-#[inline(always)]
-fn add_mod(a: u32, b: u32) -> u32 {
-    let x = a + b;
-    if x >= ADLER as u32 {
-        x - ADLER as u32
-    } else {
-        x
-    }
-}
-
-/// a - b modulo 65521, for a and b below it.
-#[inline(always)]
-fn sub_mod(a: u32, b: u32) -> u32 {
-    add_mod(a, ADLER as u32 - b)
 }
 
 /// How many rows ahead [`FrameCoder::encode`] asks for the pixels of the tiles it will
