@@ -303,17 +303,21 @@ fn a_row_compressed_tile_by_tile_is_the_row_compressed_whole() {
 
 #[test]
 fn bit_ranges_are_copied_bit_for_bit_from_any_offset_to_any_offset() {
-    // Long ranges take the word-at-a-time path, short ones the 56-bit one; both
-    // must append exactly the bits asked for, after any number of bits pending.
+    // Long ranges take the word-at-a-time path, short ones the 56-bit one; both must
+    // append exactly the bits asked for, after any number of bits pending, from every
+    // offset within a byte, up to the last bit the source holds eight bytes past (as
+    // it must).
     let codes = codes();
     let source: Vec<u8> = (0..400u32)
         .map(|i| (i.wrapping_mul(2_654_435_761) >> 13) as u8)
         .collect();
     let bit = |bytes: &[u8], i: usize| bytes[i / 8] >> (i % 8) & 1;
-    for pending in [0u32, 1, 7, 8, 13, 63] {
+    for pending in [0u32, 1, 2, 3, 4, 6, 7, 8, 13, 63] {
         for (from, to) in [
             (0, 3000),
             (5, 2900),
+            (37, 3136),
+            (1, 3135),
             (13, 530),
             (8, 1032),
             (3, 40),
