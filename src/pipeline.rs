@@ -235,7 +235,11 @@ fn render_full(
     let mut force = vec![DVec2::ZERO; scene.bodies.len()];
     sim.net_forces(&mut force);
     let arrows = ArrowScales::fit(scene, &sim.state().vel, &force);
-    let mut renderer = Renderer::new(scene, arrows);
+    let threads = match options.threads {
+        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        n => n,
+    };
+    let mut renderer = Renderer::with_threads(scene, arrows, threads);
     prepare(&mut renderer);
     // Only what the frames show is copied out of the simulation for them.
     let needs_forces = renderer.needs_forces();
@@ -244,10 +248,6 @@ fn render_full(
     let opaque = renderer.frames_are_opaque();
     let trails = scene.render.trails;
 
-    let threads = match options.threads {
-        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
-        n => n,
-    };
     // The default compression encodes the static layer once, on all the threads;
     // what it needs (opaque frames) is checked here, and the png crate encodes
     // otherwise.

@@ -129,6 +129,7 @@ fn snapped_sheets(
     users: &HashMap<GeometryKey, usize>,
     geometry_of: &[GeometryKey],
     discs: usize,
+    threads: usize,
 ) -> HashMap<u32, Option<Arc<SpriteCoverage>>> {
     let mut wanted: Vec<BodyLook> = Vec::new();
     let mut seen = std::collections::HashSet::new();
@@ -149,9 +150,7 @@ fn snapped_sheets(
             }
         }
     }
-    let threads = std::thread::available_parallelism()
-        .map_or(1, |n| n.get())
-        .clamp(1, wanted.len().max(1));
+    let threads = thread_count(threads).clamp(1, wanted.len().max(1));
     let per = wanted.len().div_ceil(threads).max(1);
     let sheets: Vec<Option<Arc<SpriteCoverage>>> = std::thread::scope(|scope| {
         let handles: Vec<_> = wanted
@@ -178,6 +177,17 @@ impl Looks {
     /// geometries that at least [`SPRITE_MIN_BODIES`] bodies share when `drawing`
     /// allows them.
     pub fn new(shown: &[Body], camera: &Camera, drawing: BodyDrawing) -> Self {
+        Self::with_threads(shown, camera, drawing, 0)
+    }
+
+    /// Like [`Looks::new`], rasterising the sprites made ahead of the first frame on
+    /// `threads` threads (0: one per core). The sprites do not depend on it.
+    pub fn with_threads(
+        shown: &[Body],
+        camera: &Camera,
+        drawing: BodyDrawing,
+        threads: usize,
+    ) -> Self {
         let mut looks: Vec<Look> = Vec::new();
         let mut geometry_of: Vec<GeometryKey> = Vec::new();
         let mut index: HashMap<LookKey, u32> = HashMap::new();
@@ -249,7 +259,7 @@ impl Looks {
             let mut turning: HashMap<GeometryKey, Option<Arc<TurningCoverage>>> = HashMap::new();
             // Sprites of snapped radii, keyed by the radius's bits, rasterised on every
             // core at once: a scene of discs of many sizes has dozens.
-            let mut snapped = snapped_sheets(&looks, &users, &geometry_of, discs);
+            let mut snapped = snapped_sheets(&looks, &users, &geometry_of, discs, threads);
             let mut point_sprites = PointSprites::default();
             for ((look, geometry), fixed) in looks.iter_mut().zip(&geometry_of).zip(&fixed_of) {
                 // A turning look of straight edges that many bodies share is stamped
@@ -328,17 +338,25 @@ impl Looks {
                     .map(|c| SpriteSheet::with_coverage(Arc::clone(c), &look.body));
             }
         }
-        prepare_fixed_bins(&looks);
+        prepare_fixed_bins(&looks, threads);
         Looks { looks, look_of }
     }
 }
 
-/// Makes, on every core at once, the angle bins that the looks at fixed angles stamp.
+/// `threads`, or one per core when 0.
+fn thread_count(threads: usize) -> usize {
+    match threads {
+        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        n => n,
+    }
+}
+
+/// Makes, on `threads` threads at once (0: one per core), the angle bins that the looks at fixed angles stamp.
 /// Made at their first stamps, as a turning look's are, they were made one after the
 /// other by the worker drawing the first frame, the other waiting on them: crates at
 /// angles of their own take most of their shapes' bins, 64 sprites each, and
 /// `crates-1000`'s first frame took 0.23 s, a third of its 301 frames' render.
-fn prepare_fixed_bins(looks: &[Look]) {
+fn prepare_fixed_bins(looks: &[Look], threads: usize) {
     let mut wanted: Vec<((usize, usize), &TurningSheet, f64)> = looks
         .iter()
         .filter_map(|l| {
@@ -348,9 +366,7 @@ fn prepare_fixed_bins(looks: &[Look]) {
         .collect();
     wanted.sort_by_key(|w| w.0);
     wanted.dedup_by_key(|w| w.0);
-    let threads = std::thread::available_parallelism()
-        .map_or(1, |n| n.get())
-        .clamp(1, wanted.len().max(1));
+    let threads = thread_count(threads).clamp(1, wanted.len().max(1));
     if wanted.len() < 2 || threads == 1 {
         for (_, sheet, theta) in &wanted {
             sheet.prepare(*theta);

@@ -153,6 +153,17 @@ impl Renderer {
 
     /// Like [`Renderer::new`], choosing how bodies are drawn.
     pub fn with_drawing(scene: &Scene, arrows: ArrowScales, drawing: BodyDrawing) -> Self {
+        Self::build(scene, arrows, drawing, 0)
+    }
+
+    /// Like [`Renderer::new`], making the sprites it makes before the first frame on
+    /// `threads` threads (0: one per core), as a render's `--threads` asks. The
+    /// frames do not depend on it.
+    pub fn with_threads(scene: &Scene, arrows: ArrowScales, threads: usize) -> Self {
+        Self::build(scene, arrows, BodyDrawing::default(), threads)
+    }
+
+    fn build(scene: &Scene, arrows: ArrowScales, drawing: BodyDrawing, threads: usize) -> Self {
         let r = &scene.render;
         // One transform for bodies and layers: the camera of the axes' plot area when
         // the scene has `[axes]`, else the view fitted to the whole image.
@@ -169,7 +180,8 @@ impl Renderer {
             &[]
         };
         // Bodies that look alike share one look, wherever they stand in the file.
-        let looks::Looks { looks, look_of } = looks::Looks::new(shown, &camera, drawing);
+        let looks::Looks { looks, look_of } =
+            looks::Looks::with_threads(shown, &camera, drawing, threads);
         // Trails in each body's colour at 55% opacity, the bodies drawn or not.
         let trails = TrailStyle::new(scene.bodies.iter().map(|b| bodies::color(b.color, 0.55)));
         let turning_fast = drawing == BodyDrawing::Sprites
