@@ -340,7 +340,9 @@ struct Tile {
     /// one past its last.
     from: u32,
     span: u8,
-    /// Where its bits start in the PNG, and how many there are.
+    /// Where its bits start in the PNG, and how many there are: at most 32 bytes,
+    /// none taking more than a 15-bit code (DEFLATE's longest; a run of zeros takes
+    /// fewer a byte), so well under 2^16.
     start: u32,
     bits: u16,
 }
