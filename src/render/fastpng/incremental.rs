@@ -24,8 +24,8 @@ use super::*;
 use crate::render::damage::TileMask;
 use crate::render::raster::prefetch;
 
-/// A worker's last frame as encoded: its PNG, and where each nonzero tile's bits lie in
-/// it, with the sums that give any clean span's Adler-32.
+/// A worker's last frame as encoded: its PNG, where each nonzero tile's bits lie in
+/// it, and the sums of every tile and row that give the next frame's Adler-32.
 #[derive(Debug)]
 pub struct FrameCoder {
     width: u32,
@@ -37,8 +37,9 @@ pub struct FrameCoder {
     /// The buffer the next frame is encoded into.
     spare: Vec<u8>,
     /// Row by row, the last frame's tiles whose filtered bytes are not all zero, with
-    /// their bits' positions in `png` (absolute, in bits), then a sentinel holding the
-    /// row's sums, as [`Compressed`] keeps a static layer's.
+    /// their bits' positions in `png` (absolute, in bits), then a sentinel past the
+    /// row's last tile, as [`Compressed`] keeps a static layer's (whose records also
+    /// hold the sums, here in `own` and `row_sums`).
     items: Vec<Tile>,
     /// For each row, the index in `items` of its first item.
     row_items: Vec<u32>,
@@ -261,7 +262,7 @@ impl FrameCoder {
                 // Whole tiles in one stretch of the bit writer, each nonzero one
                 // recorded, with its sums; a short last tile of the row on its own.
                 // A tile of zeros is not recorded, and its sums are zero. Tile k's
-                // bytes f_j are the row's f_i at i = 32·k + j.
+                // bytes f_j are the row's f_i at i = TILE·k + j.
                 if previous.is_some() {
                     for (k, o) in own.iter_mut().enumerate().take(t).skip(d) {
                         let s = u64::from(*o & 0x1fff);
