@@ -235,10 +235,7 @@ fn render_full(
     let mut force = vec![DVec2::ZERO; scene.bodies.len()];
     sim.net_forces(&mut force);
     let arrows = ArrowScales::fit(scene, &sim.state().vel, &force);
-    let threads = match options.threads {
-        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
-        n => n,
-    };
+    let threads = crate::threads::or_cores(options.threads);
     let mut renderer = Renderer::with_threads(scene, arrows, threads);
     prepare(&mut renderer);
     // Only what the frames show is copied out of the simulation for them.

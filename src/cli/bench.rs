@@ -94,10 +94,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
     } else {
         args.scenes.clone()
     };
-    let threads = match args.threads {
-        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
-        n => n,
-    };
+    let threads = crate::threads::or_cores(args.threads);
     let mut out = format!(
         "physframes {} bench: {} threads, {} run(s) per scene, median shown; load average {}\n",
         env!("CARGO_PKG_VERSION"),

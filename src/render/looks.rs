@@ -150,7 +150,7 @@ fn snapped_sheets(
             }
         }
     }
-    let threads = thread_count(threads).clamp(1, wanted.len().max(1));
+    let threads = crate::threads::or_cores(threads).clamp(1, wanted.len().max(1));
     let per = wanted.len().div_ceil(threads).max(1);
     let sheets: Vec<Option<Arc<SpriteCoverage>>> = std::thread::scope(|scope| {
         let handles: Vec<_> = wanted
@@ -343,14 +343,6 @@ impl Looks {
     }
 }
 
-/// `threads`, or one per core when 0.
-fn thread_count(threads: usize) -> usize {
-    match threads {
-        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
-        n => n,
-    }
-}
-
 /// Makes, on `threads` threads at once (0: one per core), the angle bins that the looks at fixed angles stamp.
 /// Made at their first stamps, as a turning look's are, they were made one after the
 /// other by the worker drawing the first frame, the other waiting on them: crates at
@@ -366,7 +358,7 @@ fn prepare_fixed_bins(looks: &[Look], threads: usize) {
         .collect();
     wanted.sort_by_key(|w| w.0);
     wanted.dedup_by_key(|w| w.0);
-    let threads = thread_count(threads).clamp(1, wanted.len().max(1));
+    let threads = crate::threads::or_cores(threads).clamp(1, wanted.len().max(1));
     if wanted.len() < 2 || threads == 1 {
         for (_, sheet, theta) in &wanted {
             sheet.prepare(*theta);
