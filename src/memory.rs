@@ -111,10 +111,10 @@ fn cgroup_allowance() -> Option<u64> {
 /// fits in memory; an explicit number is kept. Refuses, with the numbers, a render that
 /// does not fit in `available` bytes (when known).
 pub fn plan_threads(scene: &Scene, requested: usize, available: Option<u64>) -> Result<usize> {
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let cores = crate::threads::or_cores(0);
     let estimate = Estimate::of(scene);
     let Some(available) = available else {
-        return Ok(if requested == 0 { cores } else { requested });
+        return Ok(crate::threads::or_cores(requested));
     };
     let fit = estimate.threads_that_fit(available);
     let threads = match requested {
