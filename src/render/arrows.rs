@@ -175,6 +175,21 @@ pub fn draw_arrow(
 /// tip, each grown as `raster::capsule_spans` grows them. A frame with trails then
 /// compresses afresh only those tiles, not the whole frame.
 pub fn mark_arrow(mask: &mut TileMask, at: (f64, f64), d: (f64, f64), width: f32) {
+    arrow_spans(mask.size(), at, d, width, |y, x0, x1| {
+        mask.mark_span(x0, x1, y)
+    });
+}
+
+/// Calls `span(y, first, end)` for the columns first..end of each row y, in an image
+/// of `size`, that [`mark_arrow`] marks: the pixels the arrow may change, row by row,
+/// a row perhaps in two spans (the shaft's and the head's).
+pub(crate) fn arrow_spans(
+    size: (u32, u32),
+    at: (f64, f64),
+    d: (f64, f64),
+    width: f32,
+    mut span: impl FnMut(usize, usize, usize),
+) {
     let Some(ArrowLayout {
         head, base, tip, ..
     }) = ArrowLayout::new(at, d, width)
@@ -191,9 +206,8 @@ pub fn mark_arrow(mask: &mut TileMask, at: (f64, f64), d: (f64, f64), width: f32
     } else {
         2.0
     };
-    let size = mask.size();
     for (a, b, half) in [(at, base, shaft), (base, tip, 0.5 * head)] {
-        raster::capsule_spans(size, a, b, half, |y, x0, x1| mask.mark_span(x0, x1, y));
+        raster::capsule_spans(size, a, b, half, &mut span);
     }
 }
 

@@ -257,6 +257,22 @@ impl TileMask {
         }
     }
 
+    /// Marks the tiles of pixels x0..x1 of row y (inside the mask, x0 < x1), as
+    /// [`TileMask::mark_span`] does, and returns how many of them were not marked
+    /// before.
+    #[inline]
+    pub fn mark_span_counting(&mut self, x0: usize, x1: usize, y: usize) -> usize {
+        let tile = TILE_PIXELS as usize;
+        let row = &mut self.bits[y * self.words..(y + 1) * self.words];
+        let mut new = 0;
+        for t in x0 / tile..=(x1 - 1) / tile {
+            let (word, bit) = (&mut row[t / 64], 1 << (t % 64));
+            new += usize::from(*word & bit == 0);
+            *word |= bit;
+        }
+        new
+    }
+
     /// Marks every tile that pixels of `r` fall in.
     pub fn add_rect(&mut self, r: PixelRect) {
         let x1 = r.x1.min(self.width);
@@ -392,6 +408,24 @@ mod tests {
                 assert_eq!(fast, slow, "bits {start}..{end}");
             }
         }
+    }
+
+    #[test]
+    fn a_counted_span_counts_the_tiles_it_marks_first() {
+        // 700 pixels: 88 tiles, two words a row, the last tile short.
+        let mut counted = TileMask::new(700, 3);
+        counted.clear();
+        let mut plain = counted.clone();
+        let spans = [(0, 1, 0), (5, 9, 0), (3, 17, 0), (500, 700, 0), (0, 700, 2)];
+        let mut total = 0;
+        for (x0, x1, y) in spans {
+            total += counted.mark_span_counting(x0, x1, y);
+            plain.mark_span(x0, x1, y);
+            assert_eq!(total, counted.count(), "span {x0}..{x1} of row {y}");
+        }
+        assert_eq!(counted.bits, plain.bits);
+        // Row 0: tiles 0, 1, 2 and 62 to 87; row 2: all 88.
+        assert_eq!(total, 3 + 26 + 88);
     }
 
     #[test]

@@ -48,6 +48,7 @@ pub use arrows::ArrowScales;
 use clip::ClipRect;
 use damage::{copy_rect, copy_tiles};
 use looks::Look;
+use moving::ArrowMarks;
 use trails::{SharedTrails, TrailFrame, TrailLayer, TrailStyle};
 
 /// The state of one frame, as the renderer sees it.
@@ -490,13 +491,21 @@ impl Renderer {
                 Some(&mut state.bodies),
                 Some(&mut state.body_tiles),
             );
-            // Arrows over the trails mark their tiles row by row, as stamps do.
-            self.draw_arrows(frame, pixmap, Some(&mut state.body_tiles));
-            if let Some(r) = self.overlay.draw_hud(pixmap, frame) {
-                state.bodies.add_rect(r, self.width, self.height);
-            }
             state.changed.add_damage(&state.bodies);
             state.changed.add_mask(&state.body_tiles);
+            // Arrows over the trails mark their tiles row by row, as stamps do, until
+            // the frame is to be compressed whole.
+            let limit = state.changed.tiles() / 3;
+            let marks = ArrowMarks {
+                frame: &mut state.changed,
+                next: &mut state.body_tiles,
+                limit,
+            };
+            self.draw_arrows(frame, pixmap, Some(marks));
+            if let Some(r) = self.overlay.draw_hud(pixmap, frame) {
+                state.bodies.add_rect(r, self.width, self.height);
+                state.changed.add_damage(&state.bodies);
+            }
             // Long arrows on many bodies, or many large bodies, mark much of the
             // frame; past a third of its tiles, compressing every row whole costs less
             // than the tiles' bookkeeping (docs/performance.md, arrows over trails;

@@ -8,12 +8,69 @@
 
 use tiny_skia::{Color, Pixmap};
 
-use super::arrows::{draw_arrow, draw_arrow_path, mark_arrow};
+use super::arrows::{arrow_spans, draw_arrow, draw_arrow_path};
 use super::damage::TileMask;
 use super::{raster, BodyDrawing, Damage, FrameView, Renderer, DAMAGE_MARGIN};
 
 /// The width in pixels of the bodies' velocity and force arrows.
 const ARROW_WIDTH: f32 = 2.0;
+
+/// Where a trail frame's arrows mark the tiles of the pixels they may change: `frame`,
+/// the tiles where the frame may differ from the worker's last (all else the frame drew
+/// already marked), and `next`, the tiles the next frame must restore (the bodies'
+/// already marked).
+///
+/// A mask with more than `limit` tiles marked stands for every tile: a frame that
+/// marks more than a third of its tiles is compressed whole, its rows' bookkeeping
+/// costing more than its tiles save (see [`Renderer::draw_trail_frame`]), and the next
+/// frame, whose own mask holds `next`, will be too. So once either passes the limit it
+/// is made whole and no longer marked, and once both have, the arrows left are drawn
+/// unmarked: marking them would be lost work. (Marking every one of a thousand arrows
+/// over trails, at the default scale, was a tenth of such a render: `perf`.) `next`
+/// is marked on when `frame` is whole for other reasons, a new layer's first frame or
+/// the last frame's arrows, so that a frame whose own arrows mark few tiles lets the
+/// frame after it be coded by tiles.
+pub(super) struct ArrowMarks<'a> {
+    pub frame: &'a mut TileMask,
+    pub next: &'a mut TileMask,
+    pub limit: usize,
+}
+
+/// A mask that arrows mark while it holds at most `limit` tiles, and how many it
+/// holds.
+struct Marking<'a> {
+    mask: Option<&'a mut TileMask>,
+    marked: usize,
+}
+
+impl<'a> Marking<'a> {
+    fn new(mask: &'a mut TileMask, limit: usize) -> Self {
+        let marked = mask.count();
+        let mut marking = Marking {
+            mask: Some(mask),
+            marked,
+        };
+        marking.check(limit);
+        marking
+    }
+
+    /// Marks the tiles of pixels x0..x1 of row y, if the mask is still marked.
+    #[inline]
+    fn span(&mut self, x0: usize, x1: usize, y: usize) {
+        if let Some(mask) = &mut self.mask {
+            self.marked += mask.mark_span_counting(x0, x1, y);
+        }
+    }
+
+    /// Makes the mask whole, and stops marking it, once it holds more than `limit`.
+    fn check(&mut self, limit: usize) {
+        if self.marked > limit {
+            if let Some(mask) = self.mask.take() {
+                mask.set_whole();
+            }
+        }
+    }
+}
 
 /// The colour of velocity arrows.
 fn velocity_color() -> Color {
@@ -26,21 +83,39 @@ fn force_color() -> Color {
 }
 
 impl Renderer {
-    /// Draws the velocity and force arrows of the bodies that show them, marking in
-    /// `tiles`, when given, the tiles of the pixels each may change.
+    /// Draws the velocity and force arrows of the bodies that show them, marking, when
+    /// `marks` are given, the tiles of the pixels each may change in both its masks
+    /// (row by row, [`arrow_spans`]), until the frame's passes its limit.
     pub(super) fn draw_arrows(
         &self,
         frame: &FrameView<'_>,
         pixmap: &mut Pixmap,
-        mut tiles: Option<&mut TileMask>,
+        marks: Option<ArrowMarks<'_>>,
     ) {
+        let size = (self.width, self.height);
+        let mut marks = marks.map(|m| {
+            let limit = m.limit;
+            (
+                Marking::new(m.frame, limit),
+                Marking::new(m.next, limit),
+                limit,
+            )
+        });
         for &i in &self.arrow_bodies {
             let i = i as usize;
             let look = &self.looks[self.look_of[i] as usize].body;
             let at = self.camera.to_pixel_f64(frame.pos[i]);
             let mut arrow = |d: (f64, f64), c: Color| {
-                if let Some(tiles) = tiles.as_deref_mut() {
-                    mark_arrow(tiles, at, d, ARROW_WIDTH);
+                if let Some((this, next, limit)) = &mut marks {
+                    arrow_spans(size, at, d, ARROW_WIDTH, |y, x0, x1| {
+                        this.span(x0, x1, y);
+                        next.span(x0, x1, y);
+                    });
+                    this.check(*limit);
+                    next.check(*limit);
+                    if this.mask.is_none() && next.mask.is_none() {
+                        marks = None;
+                    }
                 }
                 self.arrow(pixmap, at, d, c);
             };

@@ -16,6 +16,18 @@ use crate::every_scene::{trail_history, user_scene};
 /// encoding. Turning bodies get an angle that changes with the frame. The frames
 /// `whole_at` must mark every tile, the others tiles only (`None`: every frame whole).
 fn check_worker(name: &str, text: &str, order: &[usize], whole_at: Option<&[usize]>) {
+    let velocity = |k: usize, i: usize| DVec2::new(1.0 + i as f64 * 0.1, -0.5 * k as f64);
+    check_worker_with(name, text, order, whole_at, &velocity);
+}
+
+/// [`check_worker`], with body i's velocity in frame k `velocity(k, i)`.
+fn check_worker_with(
+    name: &str,
+    text: &str,
+    order: &[usize],
+    whole_at: Option<&[usize]>,
+    velocity: &dyn Fn(usize, usize) -> DVec2,
+) {
     let s = crate::util::scene(text);
     let renderer = Renderer::new(
         &s,
@@ -33,9 +45,7 @@ fn check_worker(name: &str, text: &str, order: &[usize], whole_at: Option<&[usiz
     let mut before = pixmap.clone();
     for &k in order {
         let pos = history[k].last().expect("a frame").clone();
-        let vel: Vec<DVec2> = (0..pos.len())
-            .map(|i| DVec2::new(1.0 + i as f64 * 0.1, -0.5 * k as f64))
-            .collect();
+        let vel: Vec<DVec2> = (0..pos.len()).map(|i| velocity(k, i)).collect();
         let angle: Vec<f64> = (0..pos.len())
             .map(|i| 0.37 * (k * (i + 1)) as f64)
             .collect();
@@ -143,6 +153,22 @@ fn trail_frames_drawn_against_the_frame_before_are_those_of_a_whole_redraw() {
     check_worker("arrows", &arrows, &[0, 1, 2, 5, 6, 7], Some(&[0]));
     let every = user_scene(60, 1, true, true);
     check_worker("every arrow", &every, &[0, 1, 4, 5, 9, 10], None);
+    // Long arrows in frames 2 and 5, short ones in the others: a frame whose arrows
+    // mark more than a third of the tiles is coded whole, and so is the frame after
+    // it, which restores them, but the frame after that is coded by tiles again. (So
+    // arrows drawn over a whole frame still mark what the next frame must restore.)
+    let long = |k: usize, i: usize| match k {
+        2 | 5 => DVec2::new(0.2 * (i % 5) as f64, -30.0),
+        _ => DVec2::new(0.5, 0.1 * (i % 3) as f64),
+    };
+    let some = user_scene(40, 1, true, false);
+    check_worker_with(
+        "long arrows",
+        &some,
+        &(0..8).collect::<Vec<_>>(),
+        Some(&[0, 2, 3, 5, 6]),
+        &long,
+    );
     // The HUD over the trails: its box is marked with the bodies, not every tile,
     // and its text, which changes every frame, is right in every frame.
     let hud = mixed.replacen("[render]\n", "[render]\nhud = true\n", 1);
