@@ -320,6 +320,69 @@ impl TileMask {
     }
 }
 
+/// A mask marked while it holds at most `limit` tiles: past that it is made whole, and
+/// marking it stops. A trail frame's passes that mark tile by tile (springs, arrows)
+/// use it, since a frame that marks more than a third of its tiles is compressed
+/// whole, and the marks past that are lost work.
+pub struct Marking<'a> {
+    mask: Option<&'a mut TileMask>,
+    marked: usize,
+    limit: usize,
+}
+
+impl<'a> Marking<'a> {
+    /// Marks on `mask` (made whole at once if it already holds more than `limit`).
+    pub fn new(mask: &'a mut TileMask, limit: usize) -> Self {
+        let marked = mask.count();
+        let mut marking = Marking {
+            mask: Some(mask),
+            marked,
+            limit,
+        };
+        marking.check();
+        marking
+    }
+
+    /// Marks the tiles of pixels x0..x1 of row y (inside the mask, x0 < x1), if the
+    /// mask is still marked.
+    #[inline]
+    pub fn span(&mut self, x0: usize, x1: usize, y: usize) {
+        if let Some(mask) = &mut self.mask {
+            self.marked += mask.mark_span_counting(x0, x1, y);
+        }
+    }
+
+    /// Makes the mask whole, and stops marking it, once it holds more than the limit.
+    /// (Called between shapes, not between rows: a shape's rows are cheap to count.)
+    pub fn check(&mut self) {
+        if self.marked > self.limit {
+            if let Some(mask) = self.mask.take() {
+                mask.set_whole();
+            }
+        }
+    }
+
+    /// How many more tiles may be marked before the mask is made whole.
+    pub fn room(&self) -> usize {
+        match self.mask {
+            Some(_) => self.limit.saturating_sub(self.marked),
+            None => 0,
+        }
+    }
+
+    /// Makes the mask whole now, and stops marking it.
+    pub fn make_whole(&mut self) {
+        if let Some(mask) = self.mask.take() {
+            mask.set_whole();
+        }
+    }
+
+    /// Returns true once the mask is whole and no longer marked.
+    pub fn is_done(&self) -> bool {
+        self.mask.is_none()
+    }
+}
+
 /// Copies the pixels of the tiles `mask` marks from `from` into `to`, two pixmaps of
 /// the mask's size.
 pub(super) fn copy_tiles(to: &mut Pixmap, from: &Pixmap, mask: &TileMask) {

@@ -9,7 +9,7 @@
 use tiny_skia::{Color, Pixmap};
 
 use super::arrows::{arrow_spans, draw_arrow, draw_arrow_path};
-use super::damage::TileMask;
+use super::damage::{Marking, TileMask};
 use super::{raster, BodyDrawing, Damage, FrameView, Renderer, DAMAGE_MARGIN};
 
 /// The width in pixels of the bodies' velocity and force arrows.
@@ -36,42 +36,6 @@ pub(super) struct ArrowMarks<'a> {
     pub limit: usize,
 }
 
-/// A mask that arrows mark while it holds at most `limit` tiles, and how many it
-/// holds.
-struct Marking<'a> {
-    mask: Option<&'a mut TileMask>,
-    marked: usize,
-}
-
-impl<'a> Marking<'a> {
-    fn new(mask: &'a mut TileMask, limit: usize) -> Self {
-        let marked = mask.count();
-        let mut marking = Marking {
-            mask: Some(mask),
-            marked,
-        };
-        marking.check(limit);
-        marking
-    }
-
-    /// Marks the tiles of pixels x0..x1 of row y, if the mask is still marked.
-    #[inline]
-    fn span(&mut self, x0: usize, x1: usize, y: usize) {
-        if let Some(mask) = &mut self.mask {
-            self.marked += mask.mark_span_counting(x0, x1, y);
-        }
-    }
-
-    /// Makes the mask whole, and stops marking it, once it holds more than `limit`.
-    fn check(&mut self, limit: usize) {
-        if self.marked > limit {
-            if let Some(mask) = self.mask.take() {
-                mask.set_whole();
-            }
-        }
-    }
-}
-
 /// The colour of velocity arrows.
 fn velocity_color() -> Color {
     Color::from_rgba8(0x1f, 0x4e, 0x9c, 0xff)
@@ -94,11 +58,9 @@ impl Renderer {
     ) {
         let size = (self.width, self.height);
         let mut marks = marks.map(|m| {
-            let limit = m.limit;
             (
-                Marking::new(m.frame, limit),
-                Marking::new(m.next, limit),
-                limit,
+                Marking::new(m.frame, m.limit),
+                Marking::new(m.next, m.limit),
             )
         });
         for &i in &self.arrow_bodies {
@@ -106,14 +68,14 @@ impl Renderer {
             let look = &self.looks[self.look_of[i] as usize].body;
             let at = self.camera.to_pixel_f64(frame.pos[i]);
             let mut arrow = |d: (f64, f64), c: Color| {
-                if let Some((this, next, limit)) = &mut marks {
+                if let Some((this, next)) = &mut marks {
                     arrow_spans(size, at, d, ARROW_WIDTH, |y, x0, x1| {
                         this.span(x0, x1, y);
                         next.span(x0, x1, y);
                     });
-                    this.check(*limit);
-                    next.check(*limit);
-                    if this.mask.is_none() && next.mask.is_none() {
+                    this.check();
+                    next.check();
+                    if this.is_done() && next.is_done() {
                         marks = None;
                     }
                 }

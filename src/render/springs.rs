@@ -16,6 +16,7 @@ use tiny_skia::{Color, LineCap, LineJoin, Paint, Pixmap, Stroke, Transform};
 
 use super::camera::Camera;
 use super::clip::ClipRect;
+use super::damage::Marking;
 use super::raster;
 use super::sprite::Ink;
 use crate::scene::Scene;
@@ -84,6 +85,14 @@ fn coil_color() -> Color {
 /// The coils' stroke width, in pixels.
 const STROKE: f32 = 1.3;
 
+/// How far from the line between a coil's ends its stroke may reach, in pixels: its
+/// points lie within [`WIDTH`] of the line (the zigzag's corners on it, the leads along
+/// it, and the segments between them), and the stroke, round-joined and round-capped,
+/// within half its width of them. (A covered pixel's centre lies within 1/2 more, by
+/// [`raster::stroke_polyline`]'s ramp, and a pixel tiny-skia's scan converter touches
+/// within 0.83: the margin `raster::capsule_spans` adds.)
+const REACH: f64 = WIDTH + STROKE as f64 / 2.0;
+
 impl Springs {
     /// Returns the scene's springs when it shows them, or `None`.
     pub fn new(scene: &Scene) -> Option<Self> {
@@ -128,14 +137,62 @@ impl Springs {
         self.springs.is_empty()
     }
 
+    /// Marks the tiles of every pixel a coil at the bodies' positions `pos` and angles
+    /// `angle` may change, row by row: those within [`REACH`] of the line between its
+    /// ends, grown as `raster::capsule_spans` grows them. When the coils would mark more
+    /// tiles, by [`Springs::tiles_estimate`], than `marks` has room for or than
+    /// `budget`, the mask is made whole at once instead: in the first case marking them
+    /// would be lost work, in the second it would cost more than it saves.
+    pub fn mark(
+        &self,
+        size: (u32, u32),
+        camera: &Camera,
+        (pos, angle): (&[DVec2], Option<&[f64]>),
+        (marks, budget): (&mut Marking<'_>, usize),
+    ) {
+        let estimate = self.tiles_estimate(camera, (pos, angle));
+        if estimate > marks.room().min(budget) as f64 {
+            marks.make_whole();
+            return;
+        }
+        for (a, b) in &self.springs {
+            let from = camera.to_pixel_f64(a.world(pos, angle));
+            let to = camera.to_pixel_f64(b.world(pos, angle));
+            raster::capsule_spans(size, from, to, REACH, |y, x0, x1| marks.span(x0, x1, y));
+            marks.check();
+            if marks.is_done() {
+                return;
+            }
+        }
+    }
+
+    /// About how many tiles the coils' marks cover, overlaps counted as often as they
+    /// occur: each coil's capsule of radius R (its [`REACH`], grown by
+    /// `raster::capsule_spans`'s margin) and length L covers some (L + 2R)·2R pixels
+    /// over |Δy| + 2R rows, and so about a tile for every 8 of its pixels and one more,
+    /// cut in two, at each row's ends.
+    fn tiles_estimate(&self, camera: &Camera, (pos, angle): (&[DVec2], Option<&[f64]>)) -> f64 {
+        let r = REACH + 1.0;
+        let tile = f64::from(super::damage::TILE_PIXELS);
+        self.springs
+            .iter()
+            .map(|(a, b)| {
+                let (x0, y0) = camera.to_pixel_f64(a.world(pos, angle));
+                let (x1, y1) = camera.to_pixel_f64(b.world(pos, angle));
+                let length = (x1 - x0).hypot(y1 - y0);
+                let rows = (y1 - y0).abs() + 2.0 * r;
+                (length + 2.0 * r) * 2.0 * r / tile + rows
+            })
+            .sum()
+    }
+
     /// Draws every spring between its ends at the bodies' positions `pos` and, when
     /// some body turns, angles `angle`: as tiny-skia's strokes, or, when `fast`,
     /// covered by distance ([`raster::stroke_polyline`]).
     pub fn draw(
         &self,
         pixmap: &mut Pixmap,
-        camera: &Camera,
-        clip: &ClipRect,
+        (camera, clip): (&Camera, &ClipRect),
         (pos, angle): (&[DVec2], Option<&[f64]>),
         fast: bool,
     ) {
@@ -223,6 +280,45 @@ fn coil(from: (f64, f64), to: (f64, f64)) -> Vec<(f64, f64)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::damage::TileMask;
+
+    #[test]
+    fn the_estimate_of_a_coils_tiles_is_within_a_tile_a_row_of_those_it_marks() {
+        let text = "[render]\nwidth = 1280\nheight = 720\nshow_springs = true\n\
+            view = { min = [0.0, 0.0], max = [16.0, 9.0] }\n\
+            [[body]]\nname = \"a\"\nmass = 1.0\nposition = [0.0, 0.0]\n\
+            [[body]]\nname = \"b\"\nmass = 1.0\nposition = [1.0, 0.0]\n\
+            [[force]]\nkind = \"spring\"\na = \"a\"\nb = \"b\"\nstiffness = 1.0\n";
+        let scene = crate::scene::parse(std::path::Path::new("s.toml"), text).expect("valid");
+        let springs = Springs::new(&scene).expect("shown");
+        let size = (scene.render.width, scene.render.height);
+        let camera = Camera::fit(scene.render.view, size.0, size.1);
+        let r = REACH + 1.0;
+        for length in [0.0, 0.1, 0.5, 2.0, 8.0] {
+            for step in 0..12 {
+                let theta = f64::from(step) * std::f64::consts::PI / 12.0 + 0.1;
+                // About the view's centre, inside the frame.
+                let half = 0.5 * length * DVec2::new(theta.cos(), theta.sin());
+                let pos = [DVec2::new(8.0, 4.5) - half, DVec2::new(8.0, 4.5) + half];
+                let mut mask = TileMask::new(size.0, size.1);
+                mask.clear();
+                let mut marks = Marking::new(&mut mask, usize::MAX);
+                springs.mark(size, &camera, (&pos, None), (&mut marks, usize::MAX));
+                let marked = mask.count() as f64;
+                let estimate = springs.tiles_estimate(&camera, (&pos, None));
+                // The capsule's pixels, A = 2rL + πr² near enough, make rows of spans
+                // that each cover from w/8 to w/8 + 2 tiles, or some A/8 + rows in
+                // all; the estimate counts its ends as squares, (4 - π)r² pixels
+                // more, and the rows' spans are whole pixels, up to 2 more a row.
+                let rows = (pos[1].y - pos[0].y).abs() * 80.0 + 2.0 * r;
+                let bound = 1.25 * rows + (4.0 - std::f64::consts::PI) * r * r / 8.0;
+                assert!(
+                    (estimate - marked).abs() <= bound,
+                    "length {length}, angle {theta}: estimate {estimate}, marked {marked}, bound {bound}"
+                );
+            }
+        }
+    }
 
     #[test]
     fn a_coil_runs_from_end_to_end_within_its_width() {

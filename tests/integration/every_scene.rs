@@ -1507,8 +1507,8 @@ fn many_springs_covered_by_distance_look_like_tiny_skias_strokes() {
     fast.fill(Color::from_rgba8(250, 248, 240, 255));
     let mut paths = fast.clone();
     let background = fast.clone();
-    springs.draw(&mut fast, &camera, &clip, (&pos, None), true);
-    springs.draw(&mut paths, &camera, &clip, (&pos, None), false);
+    springs.draw(&mut fast, (&camera, &clip), (&pos, None), true);
+    springs.draw(&mut paths, (&camera, &clip), (&pos, None), false);
     let (largest, count) = diff(&fast, &paths);
     let covered = diff(&paths, &background).1;
     let mean = crate::util::total_difference(&fast, &paths) as f64 / covered as f64;

@@ -169,6 +169,53 @@ fn trail_frames_drawn_against_the_frame_before_are_those_of_a_whole_redraw() {
         Some(&[0, 2, 3, 5, 6]),
         &long,
     );
+    // Springs' coils over the trails mark their tiles, as arrows do: covered by
+    // distance for 16 springs or more, tiny-skia's strokes for fewer; between a body
+    // and the one that starts nearest it, and from a body to a fixed point near where
+    // it starts. Springs across the frame, whose coils would mark more than an eighth
+    // of its tiles, leave every frame whole instead.
+    let start = |i: usize| {
+        // Body i's starting position, as user_scene places it.
+        let k = (i * 7919) % 97;
+        DVec2::new(
+            0.3 + (k as f64 * 0.161) % 15.4,
+            0.3 + (i as f64 * 0.377) % 8.4,
+        )
+    };
+    let springs = |n: usize, partner: &dyn Fn(usize) -> Option<usize>| {
+        let mut text = user_scene(40, 0, true, false).replacen(
+            "width = 320\nheight = 180\n",
+            "width = 640\nheight = 360\nshow_springs = true\n",
+            1,
+        );
+        assert!(text.contains("show_springs"), "springs shown");
+        for i in 0..n {
+            let b = match partner(i) {
+                Some(j) => format!("\"body{j}\""),
+                None => format!("[{:.3}, {:.3}]", start(i).x + 1.0, start(i).y - 0.5),
+            };
+            text.push_str(&format!(
+                "[[force]]\nkind = \"spring\"\na = \"body{i}\"\nb = {b}\nstiffness = 0.5\n"
+            ));
+        }
+        text
+    };
+    let nearest = |i: usize| {
+        i.is_multiple_of(4).then(|| {
+            (0..40)
+                .filter(|&j| j != i)
+                .min_by(|&a, &b| {
+                    let (da, db) = (start(a) - start(i), start(b) - start(i));
+                    da.length().total_cmp(&db.length())
+                })
+                .expect("another body")
+        })
+    };
+    let order = [0, 1, 2, 5, 6, 9, 10, 13];
+    check_worker("springs", &springs(20, &nearest), &order, Some(&[0]));
+    check_worker("few springs", &springs(6, &nearest), &order, Some(&[0]));
+    let across = |i: usize| Some((i + 20) % 40);
+    check_worker("springs across", &springs(20, &across), &order, None);
     // The HUD over the trails: its box is marked with the bodies, not every tile,
     // and its text, which changes every frame, is right in every frame.
     let hud = mixed.replacen("[render]\n", "[render]\nhud = true\n", 1);
