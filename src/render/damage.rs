@@ -419,6 +419,44 @@ pub(super) fn copy_tiles(to: &mut Pixmap, from: &Pixmap, mask: &TileMask) {
     }
 }
 
+/// Copies the pixels of the tiles `mask` marks that lie outside `inside` from `from`
+/// into `to`, two pixmaps of the mask's size: a frame's margins around a plot, brought
+/// back to the static layer where the frame may have drawn over them.
+pub(super) fn copy_tiles_outside(
+    to: &mut Pixmap,
+    from: &Pixmap,
+    mask: &TileMask,
+    inside: PixelRect,
+) {
+    let width = to.width() as usize;
+    let stride = 4 * width;
+    let tile = TILE_PIXELS as usize;
+    let (l, r) = (
+        inside.x0 as usize,
+        (inside.x1 as usize).max(inside.x0 as usize),
+    );
+    let (top, bottom) = (inside.y0 as usize, inside.y1 as usize);
+    let (from, to) = (from.data(), to.data_mut());
+    for y in 0..to.len() / stride.max(1) {
+        let row = mask.row(y);
+        let margins = if y < top || y >= bottom {
+            [(0, width), (width, width)]
+        } else {
+            [(0, l), (r, width)]
+        };
+        for (x0, x1) in margins {
+            let mut t = super::fastpng::next_bit(row, x0 / tile, true);
+            while t * tile < x1 {
+                let end = super::fastpng::next_bit(row, t, false);
+                let (a, b) = ((t * tile).max(x0), (end * tile).min(x1));
+                let line = y * stride;
+                to[line + 4 * a..line + 4 * b].copy_from_slice(&from[line + 4 * a..line + 4 * b]);
+                t = super::fastpng::next_bit(row, end, true);
+            }
+        }
+    }
+}
+
 /// Sets bits `tiles` (not empty) of each row in `rows` of a bitmap of `words` 64-bit
 /// words a row, bit t of a row in its word t / 64: a word's bits at once, not bit by
 /// bit (a thousand bodies' rectangles marked a bit at a time cost a frame 0.05 ms).

@@ -46,7 +46,7 @@ use crate::history::PointHistory;
 use crate::scene::Scene;
 pub use arrows::ArrowScales;
 use clip::ClipRect;
-use damage::{copy_rect, copy_tiles, Marking};
+use damage::{copy_rect, copy_tiles, copy_tiles_outside, Marking};
 use looks::Look;
 use moving::ArrowMarks;
 use trails::{SharedTrails, TrailFrame, TrailLayer, TrailStyle};
@@ -405,14 +405,7 @@ impl Renderer {
             // With axes, bodies are wiped from the margins again, which returns those
             // pixels to the static layer: only where the bodies drew, after which the
             // damage keeps to the plot.
-            if let Some(area) = self.overlay.body_area() {
-                let clamp = |v: i32, max: u32| v.clamp(0, max as i32) as u32;
-                let inside = PixelRect {
-                    x0: clamp(area.left(), self.width),
-                    y0: clamp(area.top(), self.height),
-                    x1: clamp(area.right(), self.width),
-                    y1: clamp(area.bottom(), self.height),
-                };
+            if let Some(inside) = self.body_rect() {
                 damage.keep_inside(inside, |r| copy_rect(pixmap, &self.static_layer, r));
             }
             // The HUD over everything, in a box the damage holds.
@@ -437,9 +430,9 @@ impl Renderer {
     /// their rectangles kept for the next frame, and so is the HUD's box. Arrows mark
     /// the tiles of the pixels they may change, row by row ([`arrows::mark_arrow`]),
     /// unless the marks cover more than a third of the frame, and so do springs' coils
-    /// ([`springs::Springs::draw`]). A frame that draws more over the trails (a
-    /// legend, layers that change in time, a plot's margins, compared runs) marks
-    /// every tile.
+    /// ([`springs::Springs::mark`]). With axes, the marked tiles outside the plot go
+    /// back to the static layer. A frame that draws more over the trails (a legend,
+    /// layers that change in time, compared runs) marks every tile.
     pub fn draw_trail_frame(
         &self,
         frame: &FrameView<'_>,
@@ -483,7 +476,7 @@ impl Renderer {
         } else {
             copy_tiles(pixmap, layer.base(), &state.changed);
         }
-        if self.marks_its_tiles(frame) && self.overlay.body_area().is_none() {
+        if self.marks_its_tiles(frame) {
             state.bodies.clear();
             state.body_tiles.clear();
             self.draw_springs(frame, pixmap);
@@ -518,6 +511,16 @@ impl Renderer {
                 limit,
             };
             self.draw_arrows(frame, pixmap, Some(marks));
+            // With axes, the margins around the plot go back to the static layer where
+            // anything drew over them (the trails, too, which the layer keeps there):
+            // where the marks say, or everywhere once the frame is whole.
+            if let (Some(area), Some(inside)) = (self.overlay.body_area(), self.body_rect()) {
+                if state.changed.is_whole() {
+                    layers::restore_outside(pixmap, &self.static_layer, area);
+                } else {
+                    copy_tiles_outside(pixmap, &self.static_layer, &state.changed, inside);
+                }
+            }
             if let Some(r) = self.overlay.draw_hud(pixmap, frame) {
                 state.bodies.add_rect(r, self.width, self.height);
                 state.changed.add_damage(&state.bodies);
@@ -536,6 +539,19 @@ impl Renderer {
             state.bodies.set_whole();
             state.changed.set_whole();
         }
+    }
+
+    /// The pixels that bodies may show, when the margins around them are wiped after
+    /// the bodies are drawn (a frame with axes), inside the frame.
+    fn body_rect(&self) -> Option<PixelRect> {
+        let area = self.overlay.body_area()?;
+        let clamp = |v: i32, max: u32| v.clamp(0, max as i32) as u32;
+        Some(PixelRect {
+            x0: clamp(area.left(), self.width),
+            y0: clamp(area.top(), self.height),
+            x1: clamp(area.right(), self.width),
+            y1: clamp(area.bottom(), self.height),
+        })
     }
 
     /// Returns true when a frame draws nothing over the static layer (and the trails)

@@ -221,4 +221,40 @@ fn trail_frames_drawn_against_the_frame_before_are_those_of_a_whole_redraw() {
     let hud = mixed.replacen("[render]\n", "[render]\nhud = true\n", 1);
     assert!(hud.contains("hud = true"), "the HUD is on");
     check_worker("hud", &hud, &[0, 1, 2, 3, 7, 8, 15], Some(&[0]));
+    // With axes, the plot's margins go back to the static layer where bodies, arrows,
+    // springs or trails drew over them, tile by tile: bodies leaving the plot, with
+    // arrows on some, springs to fixed points and the HUD; and a frame made whole by
+    // long arrows, whose margins are restored whole, and the frames after it.
+    let axes = |text: &str| {
+        let text = text.replacen(
+            "width = 320\nheight = 180\n",
+            "width = 640\nheight = 360\n",
+            1,
+        );
+        format!("{text}\n[axes]\ntitle = \"Trails\"\nx_label = \"x (m)\"\ny_label = \"y (m)\"\n")
+    };
+    check_worker(
+        "axes",
+        &axes(&mixed),
+        &(0..12).collect::<Vec<_>>(),
+        Some(&[0]),
+    );
+    let hud_arrows =
+        user_scene(40, 3, true, true).replacen("[render]\n", "[render]\nhud = true\n", 1);
+    check_worker("axes, arrows, hud", &axes(&hud_arrows), &order, Some(&[0]));
+    check_worker(
+        "axes, springs",
+        &axes(&springs(20, &nearest)),
+        &order,
+        Some(&[0]),
+    );
+    // (At 320 × 180, where the long arrows mark more than a third of the tiles.)
+    let small_axes = format!("{some}\n[axes]\ntitle = \"Trails\"\n");
+    check_worker_with(
+        "axes, long arrows",
+        &small_axes,
+        &(0..8).collect::<Vec<_>>(),
+        Some(&[0, 2, 3, 5, 6]),
+        &long,
+    );
 }
