@@ -408,10 +408,9 @@ impl Renderer {
             if let Some(inside) = self.body_rect() {
                 damage.keep_inside(inside, |r| copy_rect(pixmap, &self.static_layer, r));
             }
-            // The HUD over everything, in a box the damage holds.
-            if let Some(r) = self.overlay.draw_hud(pixmap, frame) {
-                damage.add_rect(r, self.width, self.height);
-            }
+            // The legend and the HUD over everything, in boxes the damage holds.
+            let (width, height) = (self.width, self.height);
+            self.draw_boxes(frame, pixmap, |r| damage.add_rect(r, width, height));
         } else {
             damage.set_whole();
             self.draw_moving(frame, pixmap);
@@ -521,10 +520,10 @@ impl Renderer {
                     copy_tiles_outside(pixmap, &self.static_layer, &state.changed, inside);
                 }
             }
-            if let Some(r) = self.overlay.draw_hud(pixmap, frame) {
-                state.bodies.add_rect(r, self.width, self.height);
-                state.changed.add_damage(&state.bodies);
-            }
+            let (width, height) = (self.width, self.height);
+            let bodies = &mut state.bodies;
+            self.draw_boxes(frame, pixmap, |r| bodies.add_rect(r, width, height));
+            state.changed.add_damage(&state.bodies);
             // Long arrows on many bodies, or many large bodies, mark much of the
             // frame; past a third of its tiles, compressing every row whole costs less
             // than the tiles' bookkeeping (docs/performance.md, arrows over trails;
@@ -554,19 +553,35 @@ impl Renderer {
         })
     }
 
+    /// Draws the legend and the HUD, those the scene shows, over everything, and gives
+    /// `add` the pixels each may have touched (x0, y0, x1, y1), for the damage.
+    fn draw_boxes(
+        &self,
+        frame: &FrameView<'_>,
+        pixmap: &mut Pixmap,
+        mut add: impl FnMut((i64, i64, i64, i64)),
+    ) {
+        if let Some(r) = self.overlay.draw_legend(pixmap) {
+            add(r);
+        }
+        if let Some(r) = self.overlay.draw_hud(pixmap, frame) {
+            add(r);
+        }
+    }
+
     /// Returns true when a frame draws nothing over the static layer (and the trails)
-    /// but bodies and, perhaps, the HUD, whose extents the damage holds: no springs,
-    /// arrows, comparison runs, legend or layer that changes in time.
+    /// but bodies and, perhaps, the legend and the HUD, whose extents the damage holds:
+    /// no springs, arrows, comparison runs or layer that changes in time.
     fn bodies_and_hud_only(&self, frame: &FrameView<'_>) -> bool {
         self.arrow_bodies.is_empty() && self.springs.is_none() && self.marks_its_tiles(frame)
     }
 
     /// Returns true when a frame draws nothing over the static layer and the trails
-    /// but springs, bodies, their arrows and, perhaps, the HUD: what a trail frame can
-    /// mark tile by tile.
+    /// but springs, bodies, their arrows and, perhaps, the legend and the HUD: what a
+    /// trail frame can mark tile by tile.
     fn marks_its_tiles(&self, frame: &FrameView<'_>) -> bool {
         frame.compare.is_none()
-            && (!self.overlay.draws_over_frames() || self.overlay.draws_only_the_hud())
+            && (!self.overlay.draws_over_frames() || self.overlay.draws_only_boxes())
     }
 
     /// Makes `pixmap` a copy of the static layer again, rewriting only its damage. A

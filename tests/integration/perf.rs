@@ -909,7 +909,18 @@ shape = { circle = { radius = 0.15 } }
     assert!(hud.contains("hud = true"), "the HUD is on");
     check_damage(&scene(&hud));
     check_damage(&scene(&format!("{hud}\n[axes]\ntitle = \"t\"\n")));
+    // With a legend, drawn over the bodies every frame in a box the damage holds, as
+    // the HUD's, in a corner where bodies pass under it.
+    for corner in ["top-right", "bottom-left"] {
+        check_damage(&scene(&format!(
+            "{hud}\n[axes]\ntitle = \"t\"\nlegend = \"{corner}\"\n{LEGEND_CURVE}"
+        )));
+    }
 }
+
+/// A curve with a label, which a scene's legend lists.
+const LEGEND_CURVE: &str =
+    "[[curve]]\nkind = \"exact\"\ny = \"0.5*x\"\nlabel = \"y = x/2, a long label\"\n";
 
 /// Draws a dozen frames of moving bodies into one reused pixmap from the last frame's
 /// damage, and checks each against a whole redraw and against its own damage.

@@ -248,6 +248,12 @@ fn trail_frames_drawn_against_the_frame_before_are_those_of_a_whole_redraw() {
         &order,
         Some(&[0]),
     );
+    // A legend over the trails, redrawn in its box every frame as the HUD is.
+    let legend = format!(
+        "{}legend = \"bottom-right\"\n[[curve]]\nkind = \"exact\"\ny = \"0.5*x\"\nlabel = \"y = x/2\"\n",
+        axes(&hud_arrows)
+    );
+    check_worker("axes, legend", &legend, &order, Some(&[0]));
     // (At 320 × 180, where the long arrows mark more than a third of the tiles.)
     let small_axes = format!("{some}\n[axes]\ntitle = \"Trails\"\n");
     check_worker_with(

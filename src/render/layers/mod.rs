@@ -125,16 +125,33 @@ impl Overlay {
             restore_outside(pixmap, static_layer, self.chart.inner_area());
         }
         self.draw_layers(pixmap, frame.t, true, frame.traces);
-        if self.legend {
-            self.chart.draw_legend(pixmap);
-        }
+        self.draw_legend(pixmap);
         self.draw_hud(pixmap, frame);
     }
 
     /// Returns true when all that frames draw over the static layer, besides restoring
-    /// its margins, is the HUD: a box of known extent, which the damage can hold.
-    pub fn draws_only_the_hud(&self) -> bool {
-        self.hud && !self.legend && !self.layers.has_dynamic_layers()
+    /// its margins, is the legend and the HUD: boxes of known extent, which the damage
+    /// can hold.
+    pub fn draws_only_boxes(&self) -> bool {
+        !self.layers.has_dynamic_layers()
+    }
+
+    /// Draws the legend, when the scene has one, and returns the pixels it may have
+    /// touched (x0, y0, x1, y1), for the damage: its box, grown by 2 pixels for the
+    /// anti-aliasing of its border, which lies on the box's edge.
+    pub fn draw_legend(&self, pixmap: &mut Pixmap) -> Option<(i64, i64, i64, i64)> {
+        if !self.legend {
+            return None;
+        }
+        self.chart.draw_legend(pixmap);
+        self.chart.legend_box().map(|r| {
+            (
+                r.left().floor() as i64 - 2,
+                r.top().floor() as i64 - 2,
+                r.right().ceil() as i64 + 2,
+                r.bottom().ceil() as i64 + 2,
+            )
+        })
     }
 
     /// Draws the HUD, when the scene shows it, and returns the pixels it may have

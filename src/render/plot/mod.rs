@@ -232,6 +232,12 @@ impl Chart {
         self.draw_labels(pixmap);
     }
 
+    /// The legend's box, when the chart has a legend: everything
+    /// [`Chart::draw_legend`] draws lies inside it (its entries are laid out within).
+    pub fn legend_box(&self) -> Option<Rect> {
+        LegendLayout::compute(&self.spec, self.plot, self.frame_px).map(|legend| legend.frame)
+    }
+
     /// Draws the legend box in its corner of the plot area; call it after the data.
     pub fn draw_legend(&self, pixmap: &mut Pixmap) {
         let Some(legend) = LegendLayout::compute(&self.spec, self.plot, self.frame_px) else {
