@@ -182,8 +182,8 @@ fn trail_frames_drawn_against_the_frame_before_are_those_of_a_whole_redraw() {
             0.3 + (i as f64 * 0.377) % 8.4,
         )
     };
-    let springs = |n: usize, partner: &dyn Fn(usize) -> Option<usize>| {
-        let mut text = user_scene(40, 0, true, false).replacen(
+    let springs_over = |bodies: String, n: usize, partner: &dyn Fn(usize) -> Option<usize>| {
+        let mut text = bodies.replacen(
             "width = 320\nheight = 180\n",
             "width = 640\nheight = 360\nshow_springs = true\n",
             1,
@@ -199,6 +199,9 @@ fn trail_frames_drawn_against_the_frame_before_are_those_of_a_whole_redraw() {
             ));
         }
         text
+    };
+    let springs = |n: usize, partner: &dyn Fn(usize) -> Option<usize>| {
+        springs_over(user_scene(40, 0, true, false), n, partner)
     };
     let nearest = |i: usize| {
         i.is_multiple_of(4).then(|| {
@@ -254,6 +257,30 @@ fn trail_frames_drawn_against_the_frame_before_are_those_of_a_whole_redraw() {
         axes(&hud_arrows)
     );
     check_worker("axes, legend", &legend, &order, Some(&[0]));
+    // Everything at once: axes with a grid, a legend at the bottom left and the HUD,
+    // turning shapes with arrows on some, springs; and axes on an image too small to
+    // leave them a plot area, drawn without them.
+    let all = format!(
+        "{}grid = true\nlegend = \"bottom-left\"\n[[curve]]\nkind = \"exact\"\ny = \"9 - 0.5*x\"\nlabel = \"a line\"\n",
+        axes(
+            &springs_over(user_scene(40, 3, true, true), 20, &nearest).replacen(
+                "[render]\n",
+                "[render]\nhud = true\n",
+                1
+            )
+        )
+    );
+    check_worker("everything", &all, &order, Some(&[0]));
+    let tiny = format!(
+        "{}\n[axes]\ntitle = \"Trails\"\n",
+        mixed.replacen(
+            "width = 320\nheight = 180\n",
+            "width = 96\nheight = 54\n",
+            1,
+        )
+    );
+    assert!(tiny.contains("width = 96"), "a tiny image");
+    check_worker("tiny axes", &tiny, &order, None);
     // (At 320 × 180, where the long arrows mark more than a third of the tiles.)
     let small_axes = format!("{some}\n[axes]\ntitle = \"Trails\"\n");
     check_worker_with(
