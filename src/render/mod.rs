@@ -399,8 +399,15 @@ impl Renderer {
             return;
         }
         self.restore(pixmap, damage);
-        if self.bodies_and_hud_only(frame) {
+        if self.damage_holds_all(frame) {
             damage.clear();
+            // Springs' coils under the bodies, each in the box around its ends grown by
+            // its reach.
+            self.draw_springs(frame, pixmap);
+            if let Some(springs) = &self.springs {
+                let (size, at) = ((self.width, self.height), (frame.pos, frame.angle));
+                springs.add_boxes(size, &self.camera, at, damage);
+            }
             self.draw_bodies(frame, pixmap, Some(damage), None);
             // With axes, bodies are wiped from the margins again, which returns those
             // pixels to the static layer: only where the bodies drew, after which the
@@ -569,11 +576,11 @@ impl Renderer {
         }
     }
 
-    /// Returns true when a frame draws nothing over the static layer (and the trails)
-    /// but bodies and, perhaps, the legend and the HUD, whose extents the damage holds:
-    /// no springs, arrows, comparison runs or layer that changes in time.
-    fn bodies_and_hud_only(&self, frame: &FrameView<'_>) -> bool {
-        self.arrow_bodies.is_empty() && self.springs.is_none() && self.marks_its_tiles(frame)
+    /// Returns true when a frame draws nothing over the static layer but springs,
+    /// bodies and, perhaps, the legend and the HUD, whose extents the damage holds: no
+    /// arrows, comparison runs or layer that changes in time.
+    fn damage_holds_all(&self, frame: &FrameView<'_>) -> bool {
+        self.arrow_bodies.is_empty() && self.marks_its_tiles(frame)
     }
 
     /// Returns true when a frame draws nothing over the static layer and the trails

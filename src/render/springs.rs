@@ -16,7 +16,7 @@ use tiny_skia::{Color, LineCap, LineJoin, Paint, Pixmap, Stroke, Transform};
 
 use super::camera::Camera;
 use super::clip::ClipRect;
-use super::damage::Marking;
+use super::damage::{Damage, Marking};
 use super::raster;
 use super::sprite::Ink;
 use crate::scene::Scene;
@@ -163,6 +163,41 @@ impl Springs {
             if marks.is_done() {
                 return;
             }
+        }
+    }
+
+    /// Adds to `damage` the box of every pixel a coil at the bodies' positions `pos`
+    /// and angles `angle` may change: the box around its ends, grown by [`REACH`] and
+    /// 2 pixels more (a pixel the stroke touches has its centre within 0.83 of it,
+    /// `raster::capsule_spans`, and the box is of whole pixels).
+    pub fn add_boxes(
+        &self,
+        (width, height): (u32, u32),
+        camera: &Camera,
+        (pos, angle): (&[DVec2], Option<&[f64]>),
+        damage: &mut Damage,
+    ) {
+        let r = REACH + 2.0;
+        for (a, b) in &self.springs {
+            if damage.is_whole() {
+                return;
+            }
+            let (x0, y0) = camera.to_pixel_f64(a.world(pos, angle));
+            let (x1, y1) = camera.to_pixel_f64(b.world(pos, angle));
+            if !(x0.is_finite() && y0.is_finite() && x1.is_finite() && y1.is_finite()) {
+                damage.set_whole();
+                return;
+            }
+            // Clamped well outside the frame first: the casts saturate, and the damage
+            // keeps to the frame.
+            let bound = |v: f64| v.clamp(-1e9, 1e9) as i64;
+            let rect = (
+                bound((x0.min(x1) - r).floor()),
+                bound((y0.min(y1) - r).floor()),
+                bound((x0.max(x1) + r).ceil()) + 1,
+                bound((y0.max(y1) + r).ceil()) + 1,
+            );
+            damage.add_rect(rect, width, height);
         }
     }
 

@@ -909,6 +909,34 @@ shape = { circle = { radius = 0.15 } }
     assert!(hud.contains("hud = true"), "the HUD is on");
     check_damage(&scene(&hud));
     check_damage(&scene(&format!("{hud}\n[axes]\ntitle = \"t\"\n")));
+    // With springs shown, each coil in the box around its ends grown by its reach:
+    // two drawn as tiny-skia's strokes, between bodies and to a fixed point, and 20
+    // covered by distance, the others from members of the swarm to fixed points near
+    // them; alone and under axes.
+    let shown = hud.replacen(
+        "width = 480\nheight = 270\nhud = true\n",
+        "width = 960\nheight = 540\nhud = true\nshow_springs = true\n",
+        1,
+    );
+    let two = "[[force]]\nkind = \"spring\"\na = \"box\"\nb = \"crate\"\nstiffness = 1.0\n\
+        [[force]]\nkind = \"spring\"\na = \"wedge\"\nb = [11.0, 5.0]\nstiffness = 1.0\n";
+    let dust = &scene(&shown).initial_state().pos[6..];
+    let many: String = (0..18)
+        .map(|i| {
+            let to = dust[i] + DVec2::new(0.2, 0.15);
+            format!(
+                "[[force]]\nkind = \"spring\"\na = \"dust{i}\"\nb = [{}, {}]\nstiffness = 1.0\n",
+                to.x, to.y
+            )
+        })
+        .collect();
+    for springs in [format!("{shown}\n{two}"), format!("{shown}\n{two}{many}")] {
+        assert!(springs.contains("show_springs"), "springs shown");
+        // (Moving a fifth as far, so that the coils stay short enough for their boxes
+        // to stay under a quarter of the frame.)
+        check_damage_moving(&scene(&springs), 0.2);
+        check_damage_moving(&scene(&format!("{springs}\n[axes]\ntitle = \"t\"\n")), 0.2);
+    }
     // With a legend, drawn over the bodies every frame in a box the damage holds, as
     // the HUD's, in a corner where bodies pass under it.
     for corner in ["top-right", "bottom-left"] {
@@ -925,6 +953,11 @@ const LEGEND_CURVE: &str =
 /// Draws a dozen frames of moving bodies into one reused pixmap from the last frame's
 /// damage, and checks each against a whole redraw and against its own damage.
 fn check_damage(s: &Scene) {
+    check_damage_moving(s, 1.0);
+}
+
+/// [`check_damage`], the bodies moving `speed` times as far from frame to frame.
+fn check_damage_moving(s: &Scene, speed: f64) {
     let mut renderer = Renderer::new(
         s,
         ArrowScales {
@@ -951,7 +984,9 @@ fn check_damage(s: &Scene) {
             .pos
             .iter()
             .enumerate()
-            .map(|(i, p)| *p + k as f64 * DVec2::new(0.013 * i as f64, -0.071 * (i % 5) as f64))
+            .map(|(i, p)| {
+                *p + speed * k as f64 * DVec2::new(0.013 * i as f64, -0.071 * (i % 5) as f64)
+            })
             .collect();
         let view = FrameView {
             index: k,
