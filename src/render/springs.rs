@@ -138,9 +138,9 @@ impl Springs {
     }
 
     /// Marks the tiles of every pixel a coil at the bodies' positions `pos` and angles
-    /// `angle` may change, row by row: those within [`REACH`] of the line between its
+    /// `angle` may change, row by row: those within `REACH` of the line between its
     /// ends, grown as `raster::capsule_spans` grows them. When the coils would mark more
-    /// tiles, by [`Springs::tiles_estimate`], than `marks` has room for or than
+    /// tiles, by `Springs::tiles_estimate`, than `marks` has room for or than
     /// `budget`, the mask is made whole at once instead: in the first case marking them
     /// would be lost work, in the second it would cost more than it saves.
     pub fn mark(
@@ -167,7 +167,7 @@ impl Springs {
     }
 
     /// Adds to `damage` the box of every pixel a coil at the bodies' positions `pos`
-    /// and angles `angle` may change: the box around its ends, grown by [`REACH`] and
+    /// and angles `angle` may change: the box around its ends, grown by `REACH` and
     /// 2 pixels more (a pixel the stroke touches has its centre within 0.83 of it,
     /// `raster::capsule_spans`, and the box is of whole pixels).
     pub fn add_boxes(
