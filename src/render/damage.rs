@@ -356,9 +356,7 @@ impl<'a> Marking<'a> {
     /// (Called between shapes, not between rows: a shape's rows are cheap to count.)
     pub fn check(&mut self) {
         if self.marked > self.limit {
-            if let Some(mask) = self.mask.take() {
-                mask.set_whole();
-            }
+            self.make_whole();
         }
     }
 

@@ -34,8 +34,10 @@ pub struct Overlay {
     chart: Chart,
     /// Whether the chart's furniture (frame, ticks, labels) is drawn.
     axes: bool,
-    /// Whether the legend is drawn.
-    legend: bool,
+    /// The pixels the legend may touch (x0, y0, x1, y1), when it is drawn: its box,
+    /// grown by 2 pixels for the anti-aliasing of its border, which lies on the box's
+    /// edge.
+    legend: Option<(i64, i64, i64, i64)>,
     /// Whether the margins outside the plot area are restored after the bodies are
     /// drawn, so bodies never cover the axes.
     restore_margins: bool,
@@ -78,6 +80,14 @@ impl Overlay {
         let legend = has_axes
             && layers.axes.as_ref().is_some_and(|a| a.legend.is_some())
             && !chart.spec().legend.is_empty();
+        let legend = chart.legend_box().filter(|_| legend).map(|r| {
+            (
+                r.left().floor() as i64 - 2,
+                r.top().floor() as i64 - 2,
+                r.right().ceil() as i64 + 2,
+                r.bottom().ceil() as i64 + 2,
+            )
+        });
         let bodies_drawn = r.show_bodies && !scene.bodies.is_empty();
         let overlay = Overlay {
             chart,
@@ -101,7 +111,7 @@ impl Overlay {
     /// Returns true when frames draw something over the static layer other than
     /// restoring its margins: a legend, the HUD or a layer that changes in time.
     pub fn draws_over_frames(&self) -> bool {
-        self.legend || self.hud || self.layers.has_dynamic_layers()
+        self.legend.is_some() || self.hud || self.layers.has_dynamic_layers()
     }
 
     /// The pixels that bodies may show, when the margins around them are wiped after
@@ -137,21 +147,11 @@ impl Overlay {
     }
 
     /// Draws the legend, when the scene has one, and returns the pixels it may have
-    /// touched (x0, y0, x1, y1), for the damage: its box, grown by 2 pixels for the
-    /// anti-aliasing of its border, which lies on the box's edge.
+    /// touched (x0, y0, x1, y1), for the damage.
     pub fn draw_legend(&self, pixmap: &mut Pixmap) -> Option<(i64, i64, i64, i64)> {
-        if !self.legend {
-            return None;
-        }
+        let touched = self.legend?;
         self.chart.draw_legend(pixmap);
-        self.chart.legend_box().map(|r| {
-            (
-                r.left().floor() as i64 - 2,
-                r.top().floor() as i64 - 2,
-                r.right().ceil() as i64 + 2,
-                r.bottom().ceil() as i64 + 2,
-            )
-        })
+        Some(touched)
     }
 
     /// Draws the HUD, when the scene shows it, and returns the pixels it may have
