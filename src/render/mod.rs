@@ -411,9 +411,13 @@ impl Renderer {
             self.draw_bodies(frame, pixmap, Some(damage), None);
             // With axes, bodies are wiped from the margins again, which returns those
             // pixels to the static layer: only where the bodies drew, after which the
-            // damage keeps to the plot.
-            if let Some(inside) = self.body_rect() {
-                damage.keep_inside(inside, |r| copy_rect(pixmap, &self.static_layer, r));
+            // damage keeps to the plot; or, when the damage is whole, every margin.
+            if let (Some(area), Some(inside)) = (self.overlay.body_area(), self.body_rect()) {
+                if damage.is_whole() {
+                    layers::restore_outside(pixmap, &self.static_layer, area);
+                } else {
+                    damage.keep_inside(inside, |r| copy_rect(pixmap, &self.static_layer, r));
+                }
             }
             // The legend and the HUD over everything, in boxes the damage holds.
             let (width, height) = (self.width, self.height);

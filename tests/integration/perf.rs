@@ -950,6 +950,82 @@ shape = { circle = { radius = 0.15 } }
 const LEGEND_CURVE: &str =
     "[[curve]]\nkind = \"exact\"\ny = \"0.5*x\"\nlabel = \"y = x/2, a long label\"\n";
 
+#[test]
+fn frames_under_axes_keep_their_margins_when_the_damage_is_whole() {
+    // Large bodies, some across the plot's edges, whose rectangles pass a quarter of
+    // the frame (the damage is then whole), with springs and without: every pixel
+    // outside the plot is the static layer's in every frame, as the invariant of
+    // frames with axes asks. (A whole damage once skipped wiping the margins.)
+    let mut text = String::from(
+        "[render]\nwidth = 480\nheight = 270\nview = { min = [0.0, 0.0], max = [16.0, 9.0] }\n\
+         [axes]\ntitle = \"Margins\"\nx_label = \"x\"\ny_label = \"y\"\n",
+    );
+    for i in 0..24 {
+        let (x, y) = ((i * 7 % 17) as f64 - 0.5, (i * 5 % 10) as f64 - 0.5);
+        text.push_str(&format!(
+            "[[body]]\nname = \"b{i}\"\nmass = 1.0\nposition = [{x}, {y}]\nshape = {{ circle = {{ radius = 1.1 }} }}\n"
+        ));
+    }
+    let springs: String = (0..6)
+        .map(|i| {
+            format!(
+                "[[force]]\nkind = \"spring\"\na = \"b{i}\"\nb = \"b{}\"\nstiffness = 1.0\n",
+                i + 6
+            )
+        })
+        .collect();
+    let shown = text.replacen("[render]\n", "[render]\nshow_springs = true\n", 1);
+    for text in [text.clone(), format!("{shown}{springs}")] {
+        let s = scene(&text);
+        let renderer = Renderer::new(
+            &s,
+            ArrowScales {
+                velocity: 1.0,
+                force: 1.0,
+            },
+        );
+        let area = renderer.overlay().body_area().expect("a plot with bodies");
+        let inside = |x: i32, y: i32| {
+            (area.left()..area.right()).contains(&x) && (area.top()..area.bottom()).contains(&y)
+        };
+        let initial = s.initial_state();
+        let mut pixmap = renderer.new_frame();
+        let mut damage = physframes::render::Damage::default();
+        let mut whole_seen = false;
+        for k in 0..6 {
+            let pos: Vec<DVec2> = initial
+                .pos
+                .iter()
+                .enumerate()
+                .map(|(i, p)| *p + k as f64 * DVec2::new(0.05 * (i % 3) as f64, -0.07))
+                .collect();
+            let view = FrameView {
+                index: k,
+                t: 0.0,
+                pos: &pos,
+                vel: &[],
+                angle: None,
+                force: None,
+                trail: None,
+                traces: None,
+                compare: None,
+            };
+            renderer.draw_damaged(&view, &mut pixmap, &mut damage);
+            whole_seen |= damage.is_whole();
+            let width = pixmap.width() as usize;
+            let layer = renderer.static_layer().data();
+            for (j, (a, b)) in pixmap.data().chunks(4).zip(layer.chunks(4)).enumerate() {
+                let (x, y) = ((j % width) as i32, (j / width) as i32);
+                assert!(
+                    inside(x, y) || a == b,
+                    "frame {k}: margin pixel ({x}, {y}) is not the static layer's"
+                );
+            }
+        }
+        assert!(whole_seen, "the damage should pass a quarter of the frame");
+    }
+}
+
 /// Draws a dozen frames of moving bodies into one reused pixmap from the last frame's
 /// damage, and checks each against a whole redraw and against its own damage.
 fn check_damage(s: &Scene) {
