@@ -333,6 +333,28 @@ impl Renderer {
         pixmap
     }
 
+    /// Draws one frame into a new pixmap by the plainest path: the static layer (with
+    /// the trails so far, drawn afresh), then every pass over all of it, as for a frame
+    /// that draws more than the damage can hold. The reference the faster paths
+    /// ([`Renderer::draw_damaged`], [`Renderer::draw_trail_frame`]) are tested
+    /// against: their pixels must be these.
+    pub fn draw_every_pass(&self, frame: &FrameView<'_>) -> Pixmap {
+        let mut pixmap = self.static_layer.clone();
+        if let Some(history) = frame.trail {
+            let mut layer = self.new_trail_layer();
+            layer.advance(
+                &self.trails,
+                &self.camera,
+                &self.clip,
+                &self.static_layer,
+                history,
+            );
+            pixmap.data_mut().copy_from_slice(layer.base().data());
+        }
+        self.draw_moving(frame, &mut pixmap);
+        pixmap
+    }
+
     /// Rasterises, into `shared`, the trail segments of the frames of `history` that it
     /// has not rasterised yet, so that the workers drawing those frames find them done
     /// ([`TrailFrame::sharing`]).

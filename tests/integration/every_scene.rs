@@ -1061,6 +1061,12 @@ fn turning_bodies_drawn_from_the_last_frames_damage_give_the_pixels_of_a_whole_r
             "frame {k}: the damage should be rectangles"
         );
         let whole = renderer.draw(&view);
+        // And those are the pixels of every pass drawn over the whole frame (the
+        // path shared by redraws could hide a mistake from the comparison above).
+        assert!(
+            whole.data() == renderer.draw_every_pass(&view).data(),
+            "frame {k} differs from every pass drawn whole"
+        );
         assert!(
             pixmap.data() == whole.data(),
             "frame {k} differs from a redraw"

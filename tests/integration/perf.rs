@@ -1077,6 +1077,12 @@ fn check_damage_moving(s: &Scene, speed: f64) {
         };
         renderer.draw_damaged(&view, &mut pixmap, &mut damage);
         let whole = renderer.draw(&view);
+        // And those are the pixels of every pass drawn over the whole frame (the
+        // path shared by redraws could hide a mistake from the comparison above).
+        assert!(
+            whole.data() == renderer.draw_every_pass(&view).data(),
+            "frame {k} differs from every pass drawn whole"
+        );
         assert!(
             pixmap.data() == whole.data(),
             "frame {k} differs from a redraw"

@@ -62,6 +62,12 @@ fn check_worker_with(
         };
         renderer.draw_trail_frame(&view, &mut pixmap, &mut state);
         let whole = renderer.draw(&view);
+        // And those are the pixels of every pass drawn over the whole frame (the
+        // path shared by redraws could hide a mistake from the comparison above).
+        assert!(
+            whole.data() == renderer.draw_every_pass(&view).data(),
+            "{name}, frame {k}: differs from every pass drawn whole"
+        );
         assert!(
             pixmap.data() == whole.data(),
             "{name}, frame {k}: differs from a whole redraw"
