@@ -340,18 +340,12 @@ impl Renderer {
     /// against: their pixels must be these.
     pub fn draw_every_pass(&self, frame: &FrameView<'_>) -> Pixmap {
         let mut pixmap = self.static_layer.clone();
-        if let Some(history) = frame.trail {
-            let mut layer = self.new_trail_layer();
-            layer.advance(
-                &self.trails,
-                &self.camera,
-                &self.clip,
-                &self.static_layer,
-                history,
-            );
-            pixmap.data_mut().copy_from_slice(layer.base().data());
+        if frame.trail.is_some() {
+            // A whole frame with trails takes that path already, with a fresh layer.
+            self.draw_with_trails(frame, &mut pixmap, &mut Damage::whole(), &mut None);
+        } else {
+            self.draw_moving(frame, &mut pixmap);
         }
-        self.draw_moving(frame, &mut pixmap);
         pixmap
     }
 
