@@ -254,6 +254,19 @@ impl Springs {
                 }
                 continue;
             }
+            // A coil inside the guard band is stroked as it is: its points lie within
+            // WIDTH of the line between its ends (REACH leaves room for rounding), and
+            // a segment inside is its own cut.
+            let inside = |(x, y): (f64, f64)| {
+                x - REACH > clip.x0
+                    && x + REACH < clip.x1
+                    && y - REACH > clip.y0
+                    && y + REACH < clip.y1
+            };
+            if inside(from) && inside(to) {
+                raster::stroke_polyline(pixmap, &points, f64::from(STROKE), ink);
+                continue;
+            }
             // The coil cut to the guard band as the path would be, piece by piece.
             pieces.clear();
             for pair in points.windows(2) {
