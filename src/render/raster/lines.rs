@@ -19,16 +19,9 @@
 //! larger, and each pixel is blended once, as tiny-skia blends a stroke ([`Ink`]), with
 //! the coverage rounded to 8 bits, ⌊255·c + 1/2⌋.
 //!
-//! A segment is covered in f32 relative to its start a: pixel x's centre less a.x is
-//! the integer x − ⌊a.x⌋ plus 1/2 − (a.x − ⌊a.x⌋), one rounding in all, so that a
-//! pixel's coverage depends on the pixel and the segment alone. A segment whose box
-//! (grown by the reach) spans at most sixteen columns, a coil's zigzag or a trail's
-//! step, is covered row by row over the whole box, two AVX2 registers of eight pixels
-//! where the processor has them; a wider one over each row's own span, four pixels at
-//! a time. Working out each row's span, in f64 with a division, cost more than
-//! covering a row of a few pixels: the cloth's 1935 coils drew in 6.5 ms a frame that
-//! way and in 4.2 ms now (`frame_probe`, twenty-sixth session). A unit test holds
-//! every way of walking a row to the same bytes.
+//! Each segment's pixels within its reach are found and covered by
+//! [`super::segment::Walk`]: over the segment's box or row by row, eight pixels a
+//! register, a pixel's coverage depending on the pixel and the segment alone.
 //!
 //! The difference from tiny-skia's stroke of the same points (sixteen samples a pixel,
 //! round parts as curves) is bounded in `tests/integration/every_scene.rs`.
@@ -37,7 +30,7 @@ use std::cell::RefCell;
 
 use tiny_skia::Pixmap;
 
-use super::{ceil, floor};
+use super::segment::Walk;
 use crate::render::sprite::Ink;
 
 /// Strokes the polyline through `points` (pixels), `width` pixels wide with round
@@ -142,30 +135,12 @@ pub fn cover_capsule(
     let Some(walk) = Walk::new(a, b, half, (0, h)) else {
         return;
     };
-    if let Some((first, end)) = walk.narrow((0, w)) {
-        walk.cover_narrow(first, end, |y, cover| {
-            let row = y as usize * width as usize + first as usize;
-            for (i, &c) in cover.iter().enumerate().take((end - first) as usize) {
-                if c != 0 {
-                    put(row + i, c);
-                }
+    walk.cover((0, w), |y, x, _, end, eight| {
+        let at = y as usize * width as usize + x as usize;
+        for (i, &c) in eight.iter().enumerate().take((end - x) as usize) {
+            if c != 0 {
+                put(at + i, c);
             }
-        });
-        return;
-    }
-    walk.each_row((0, w), |y, first, end| {
-        let row = y as usize * width as usize;
-        let py = walk.seg.py(y);
-        let mut x = first;
-        while x < end {
-            let lanes = (end - x).min(4) as usize;
-            let quad = walk.seg.cover4(py, walk.seg.k(x), lanes);
-            for (i, &c) in quad.iter().enumerate().take(lanes) {
-                if c != 0 {
-                    put(row + x as usize + i, c);
-                }
-            }
-            x += 4;
         }
     });
 }
@@ -225,347 +200,23 @@ fn cover_segment(
     let Some(walk) = Walk::new(a, b, half, rows) else {
         return;
     };
-    // Keeps the larger of `new` and the buffer's bytes from pixel (x, y) on, and
-    // widens the row's span to first..end. The buffer holds 15 bytes past the box, so
-    // that the last row's sixteen may reach past it; lanes past `end` hold no coverage,
-    // which leaves what they reach as it is.
-    let mut keep = |y: i64, x: i64, first: i64, end: i64, new: &[u8]| {
-        let span = &mut spans[(y - by) as usize];
-        *span = (
-            span.0.min((first - bx) as usize),
-            span.1.max((end - bx) as usize),
-        );
+    // Keeps the larger of each pixel's coverage and the buffer's from pixel (x, y) on,
+    // widening the row's span to first..end at its first chunk. The buffer holds 15
+    // bytes past the box, so that the last row's last chunk may reach past it; lanes
+    // past `end` hold no coverage, which leaves what they reach as it is.
+    walk.cover(cols, |y, x, first, end, eight| {
+        if x == first {
+            let span = &mut spans[(y - by) as usize];
+            *span = (
+                span.0.min((first - bx) as usize),
+                span.1.max((end - bx) as usize),
+            );
+        }
         let k = (y - by) as usize * bw + (x - bx) as usize;
-        for (c, &n) in cover[k..k + new.len()].iter_mut().zip(new) {
+        for (c, &n) in cover[k..k + 8].iter_mut().zip(&eight) {
             *c = (*c).max(n);
         }
-    };
-    if let Some((first, end)) = walk.narrow(cols) {
-        walk.cover_narrow(first, end, |y, c| keep(y, first, first, end, &c));
-        return;
-    }
-    walk.each_row(cols, |y, first, end| {
-        let py = walk.seg.py(y);
-        let mut x = first;
-        while x < end {
-            let quad = walk
-                .seg
-                .cover4(py, walk.seg.k(x), (end - x).min(4) as usize);
-            keep(y, x, first, end, &quad);
-            x += 4;
-        }
     });
-}
-
-/// The widest box of a segment, in pixel columns, that is covered row by row whole
-/// instead of each row's own span: a coil's zigzag and a trail's step are rows of a
-/// few pixels, where working out each row's span (in f64, with a division) cost more
-/// than covering the row, and sixteen pixels are two AVX2 registers.
-const NARROW: i64 = 16;
-
-/// A segment from a to b stroked `half` pixels each side, and the rows its pixels
-/// may lie in: what covering it needs before its first row.
-struct Walk {
-    seg: Segment,
-    /// The unit normal.
-    nx: f64,
-    ny: f64,
-    /// The segment's start.
-    a: (f64, f64),
-    /// The columns of the segment's box, grown by the reach, as f64.
-    sx0: f64,
-    sx1: f64,
-    /// The pixel rows first..end whose centres may lie within the reach.
-    rows: (i64, i64),
-}
-
-/// Keeps `v` within a pixel of the columns or rows lo..hi before it becomes an integer,
-/// which changes no span: a segment of a run that is blowing up reaches 10^300 pixels
-/// away, and a NaN (of inf − inf) is ordered with nothing.
-#[inline(always)]
-fn near(v: f64, (lo, hi): (i64, i64)) -> f64 {
-    v.clamp(lo as f64 - 1.0, hi as f64 + 1.0)
-}
-
-impl Walk {
-    /// The walk of the segment a → b stroked `half` each side over the pixel rows
-    /// rows.0..rows.1, or None when no row's centre lies within its reach.
-    #[inline(always)]
-    fn new(a: (f64, f64), b: (f64, f64), half: f64, rows: (i64, i64)) -> Option<Walk> {
-        let reach = half + 0.5;
-        let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-        let len = (dx * dx + dy * dy).sqrt();
-        let (ux, uy) = if len > 1e-12 {
-            (dx / len, dy / len)
-        } else {
-            (1.0, 0.0)
-        };
-        // The segment's box, grown by the reach.
-        let (sx0, sx1) = (a.0.min(b.0) - reach, a.0.max(b.0) + reach);
-        let (sy0, sy1) = (a.1.min(b.1) - reach, a.1.max(b.1) + reach);
-        let (top, bottom) = (near(sy0 - 0.5, rows), near(sy1 - 0.5, rows));
-        if top.partial_cmp(&bottom).is_none_or(|o| o.is_gt()) {
-            return None;
-        }
-        let rows = (ceil(top).max(rows.0), (floor(bottom) + 1).min(rows.1));
-        // Pixel x's centre less a.x is (x − ⌊a.x⌋) + (1/2 − (a.x − ⌊a.x⌋)): an integer,
-        // exact in f32, and a number below a pixel, one rounding each.
-        let xa = a.0.floor();
-        let seg = Segment {
-            ux: ux as f32,
-            uy: uy as f32,
-            len: len as f32,
-            reach: reach as f32,
-            base: (0.5 - (a.0 - xa)) as f32,
-            xa: xa as i64,
-            ay: a.1,
-        };
-        // The unit normal n = (-uy, ux).
-        let walk = Walk {
-            seg,
-            nx: -uy,
-            ny: ux,
-            a,
-            sx0,
-            sx1,
-            rows,
-        };
-        (rows.0 < rows.1).then_some(walk)
-    }
-
-    /// The columns first..end (within cols.0..cols.1) of the segment's box when they
-    /// are at most [`NARROW`], so that its rows are covered whole.
-    #[inline(always)]
-    fn narrow(&self, cols: (i64, i64)) -> Option<(i64, i64)> {
-        let (lo, hi) = (near(self.sx0 - 0.5, cols), near(self.sx1 - 0.5, cols));
-        let first = ceil(lo).max(cols.0);
-        let end = (floor(hi) + 1).min(cols.1);
-        (first < end && end - first <= NARROW).then_some((first, end))
-    }
-
-    /// Calls `row(y, first, end)` for each of the walk's rows y whose pixel centres
-    /// first..end (within columns cols.0..cols.1) may lie within the reach of the
-    /// segment.
-    #[inline(always)]
-    fn each_row(&self, cols: (i64, i64), mut row: impl FnMut(i64, i64, i64)) {
-        let reach = f64::from(self.seg.reach);
-        let (nx, ny, a) = (self.nx, self.ny, self.a);
-        for y in self.rows.0..self.rows.1 {
-            let yc = y as f64 + 0.5;
-            let (mut lo, mut hi) = (self.sx0, self.sx1);
-            if nx.abs() > 1e-9 {
-                // A centre within the reach of the segment is within it of the line,
-                // |n·(p − a)| ≤ reach: nx·(x − ax) + ny·(yc − ay) = ±reach.
-                let mid = a.0 - ny * (yc - a.1) / nx;
-                let spread = reach / nx.abs();
-                (lo, hi) = (lo.max(mid - spread), hi.min(mid + spread));
-            }
-            let (lo, hi) = (near(lo - 0.5, cols), near(hi - 0.5, cols));
-            if lo.partial_cmp(&hi).is_none_or(|o| o.is_gt()) {
-                continue;
-            }
-            let first = ceil(lo).max(cols.0);
-            let end = (floor(hi) + 1).min(cols.1);
-            if first < end {
-                row(y, first, end);
-            }
-        }
-    }
-
-    /// Calls `row(y, cover)` for each of the walk's rows with the coverage of its
-    /// pixels first..end (at most [`NARROW`]; the lanes past end are zero).
-    #[inline(always)]
-    fn cover_narrow(&self, first: i64, end: i64, row: impl FnMut(i64, [u8; 16])) {
-        #[cfg(target_arch = "x86_64")]
-        let avx2 = super::avx2::available();
-        #[cfg(not(target_arch = "x86_64"))]
-        let avx2 = false;
-        self.cover_narrow_with(avx2, first, end, row);
-    }
-
-    /// [`Walk::cover_narrow`], with AVX2 when `avx2` says so (the processor must have
-    /// it) and four SSE2 lanes at a time otherwise.
-    #[inline(always)]
-    fn cover_narrow_with(
-        &self,
-        avx2: bool,
-        first: i64,
-        end: i64,
-        mut row: impl FnMut(i64, [u8; 16]),
-    ) {
-        let lanes = (end - first) as usize;
-        let k = self.seg.k(first);
-        #[cfg(target_arch = "x86_64")]
-        if avx2 {
-            // SAFETY: the processor has AVX2.
-            unsafe { narrow_rows_avx2(&self.seg, self.rows, k, lanes, &mut row) };
-            return;
-        }
-        for y in self.rows.0..self.rows.1 {
-            let py = self.seg.py(y);
-            let mut cover = [0u8; 16];
-            for (j, quad) in cover.chunks_exact_mut(4).enumerate() {
-                if 4 * j < lanes {
-                    let quad4 = self
-                        .seg
-                        .cover4(py, k + 4 * j as i32, (lanes - 4 * j).min(4));
-                    quad.copy_from_slice(&quad4);
-                }
-            }
-            row(y, cover);
-        }
-    }
-}
-
-/// One segment, in f32 relative to its start a.
-struct Segment {
-    /// The unit direction, and the length.
-    ux: f32,
-    uy: f32,
-    len: f32,
-    /// w/2 + 1/2: how far from the line a covered centre may lie.
-    reach: f32,
-    /// 1/2 − (a.x − ⌊a.x⌋): the centre of pixel column ⌊a.x⌋ less a.x.
-    base: f32,
-    /// ⌊a.x⌋, and a.y.
-    xa: i64,
-    ay: f64,
-}
-
-impl Segment {
-    /// Row y's centre less a.y.
-    #[inline(always)]
-    fn py(&self, y: i64) -> f32 {
-        (y as f64 + 0.5 - self.ay) as f32
-    }
-
-    /// Pixel column x counted from ⌊a.x⌋ (kept well inside i32, where columns far
-    /// from the segment give no coverage whatever their rounding).
-    #[inline(always)]
-    fn k(&self, x: i64) -> i32 {
-        x.saturating_sub(self.xa).clamp(-(1 << 30), 1 << 30) as i32
-    }
-
-    /// The coverage of pixels k + i (i = 0..4, counted from ⌊a.x⌋) of the row whose
-    /// centre less a.y is `py`, for the first `lanes` of them (the others zero): with
-    /// p = (f32(k + i) + base, py), t = clamp(p·u, 0, len), e = p − t·u, d = |e|,
-    /// c = ⌊255·clamp(reach − d, 0, 1) + 1/2⌋. The same operations in SSE2 lanes as
-    /// one by one, and in AVX2 lanes ([`narrow_rows_avx2`]), so the same bytes: a
-    /// pixel's coverage depends on the pixel and the segment, not on how its row was
-    /// walked.
-    #[inline(always)]
-    fn cover4(&self, py: f32, k: i32, lanes: usize) -> [u8; 4] {
-        #[cfg(target_arch = "x86_64")]
-        {
-            // SAFETY: every x86-64 processor has SSE2, which the target enables.
-            unsafe { self.cover4_sse2(py, k, lanes) }
-        }
-        #[cfg(not(target_arch = "x86_64"))]
-        {
-            let mut quad = [0u8; 4];
-            for (i, q) in quad.iter_mut().enumerate().take(lanes) {
-                let px = (k + i as i32) as f32 + self.base;
-                let dot = px * self.ux + py * self.uy;
-                let t = dot.max(0.0).min(self.len);
-                let (ex, ey) = (px - t * self.ux, py - t * self.uy);
-                let d = (ex * ex + ey * ey).sqrt();
-                let c = (self.reach - d).max(0.0).min(1.0);
-                *q = (c * 255.0 + 0.5) as i32 as u8;
-            }
-            quad
-        }
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[inline(always)]
-    unsafe fn cover4_sse2(&self, py: f32, k: i32, lanes: usize) -> [u8; 4] {
-        use std::arch::x86_64::*;
-        let i = _mm_setr_epi32(0, 1, 2, 3);
-        let px = _mm_add_ps(
-            _mm_cvtepi32_ps(_mm_add_epi32(_mm_set1_epi32(k), i)),
-            _mm_set1_ps(self.base),
-        );
-        let (ux, uy, py) = (_mm_set1_ps(self.ux), _mm_set1_ps(self.uy), _mm_set1_ps(py));
-        let dot = _mm_add_ps(_mm_mul_ps(px, ux), _mm_mul_ps(py, uy));
-        let t = _mm_min_ps(_mm_max_ps(dot, _mm_setzero_ps()), _mm_set1_ps(self.len));
-        let ex = _mm_sub_ps(px, _mm_mul_ps(t, ux));
-        let ey = _mm_sub_ps(py, _mm_mul_ps(t, uy));
-        let d = _mm_sqrt_ps(_mm_add_ps(_mm_mul_ps(ex, ex), _mm_mul_ps(ey, ey)));
-        let c = _mm_sub_ps(_mm_set1_ps(self.reach), d);
-        let c = _mm_min_ps(_mm_max_ps(c, _mm_setzero_ps()), _mm_set1_ps(1.0));
-        let v = _mm_cvttps_epi32(_mm_add_ps(
-            _mm_mul_ps(c, _mm_set1_ps(255.0)),
-            _mm_set1_ps(0.5),
-        ));
-        // Lanes past the row's end: no coverage.
-        let keep = _mm_cmplt_epi32(i, _mm_set1_epi32(lanes as i32));
-        let v = _mm_and_si128(v, keep);
-        // Four 32-bit lanes of 0..=255 to four bytes.
-        let v = _mm_packus_epi16(_mm_packs_epi32(v, v), _mm_setzero_si128());
-        _mm_cvtsi128_si32(v).to_le_bytes()
-    }
-}
-
-/// [`Walk::cover_narrow`] with AVX2: each row's sixteen pixels from column k (counted
-/// from ⌊a.x⌋) in two registers of eight lanes, `lanes` of them kept, by
-/// [`Segment::cover4`]'s operations lane for lane (so the same bytes).
-///
-/// # Safety
-/// The processor must have AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn narrow_rows_avx2(
-    seg: &Segment,
-    rows: (i64, i64),
-    k: i32,
-    lanes: usize,
-    row: &mut impl FnMut(i64, [u8; 16]),
-) {
-    use std::arch::x86_64::*;
-    let i = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
-    let base = _mm256_set1_ps(seg.base);
-    let px = [
-        _mm256_add_ps(
-            _mm256_cvtepi32_ps(_mm256_add_epi32(_mm256_set1_epi32(k), i)),
-            base,
-        ),
-        _mm256_add_ps(
-            _mm256_cvtepi32_ps(_mm256_add_epi32(_mm256_set1_epi32(k + 8), i)),
-            base,
-        ),
-    ];
-    let keep = [
-        _mm256_cmpgt_epi32(_mm256_set1_epi32(lanes as i32), i),
-        _mm256_cmpgt_epi32(_mm256_set1_epi32(lanes as i32 - 8), i),
-    ];
-    let (ux, uy) = (_mm256_set1_ps(seg.ux), _mm256_set1_ps(seg.uy));
-    let (len, reach) = (_mm256_set1_ps(seg.len), _mm256_set1_ps(seg.reach));
-    let (zero, one) = (_mm256_setzero_ps(), _mm256_set1_ps(1.0));
-    let (scale, half) = (_mm256_set1_ps(255.0), _mm256_set1_ps(0.5));
-    let halves = if lanes > 8 { 2 } else { 1 };
-    for y in rows.0..rows.1 {
-        let py = _mm256_set1_ps(seg.py(y));
-        let pyy = _mm256_mul_ps(py, uy);
-        let mut out = [0i64; 2];
-        for h in 0..halves {
-            let px = px[h];
-            let dot = _mm256_add_ps(_mm256_mul_ps(px, ux), pyy);
-            let t = _mm256_min_ps(_mm256_max_ps(dot, zero), len);
-            let ex = _mm256_sub_ps(px, _mm256_mul_ps(t, ux));
-            let ey = _mm256_sub_ps(py, _mm256_mul_ps(t, uy));
-            let d = _mm256_sqrt_ps(_mm256_add_ps(_mm256_mul_ps(ex, ex), _mm256_mul_ps(ey, ey)));
-            let c = _mm256_min_ps(_mm256_max_ps(_mm256_sub_ps(reach, d), zero), one);
-            let v = _mm256_cvttps_epi32(_mm256_add_ps(_mm256_mul_ps(c, scale), half));
-            let v = _mm256_and_si256(v, keep[h]);
-            // Eight 32-bit lanes of 0..=255 to eight bytes.
-            let words = _mm_packs_epi32(_mm256_castsi256_si128(v), _mm256_extracti128_si256(v, 1));
-            out[h] = _mm_cvtsi128_si64(_mm_packus_epi16(words, words));
-        }
-        let mut cover = [0u8; 16];
-        cover[..8].copy_from_slice(&out[0].to_le_bytes());
-        cover[8..].copy_from_slice(&out[1].to_le_bytes());
-        row(y, cover);
-    }
 }
 
 #[cfg(test)]
@@ -675,64 +326,6 @@ mod tests {
             // Row after row, left to right, each pixel once.
             assert!(order.windows(2).all(|p| p[0] < p[1]), "segment {k}");
         }
-    }
-
-    #[test]
-    fn a_pixels_coverage_does_not_depend_on_how_its_row_is_walked() {
-        // A segment whose box is at most sixteen columns is covered row by row whole
-        // (with AVX2 where the processor has it, four lanes at a time otherwise), a
-        // wider one over each row's span four pixels at a time: every pixel must get
-        // the same coverage either way, for segments of every direction, length,
-        // width and position (the bytes of a frame do not depend on the processor).
-        let (w, h) = (40i64, 36i64);
-        let mut byte = super::super::test_bytes(0x2545_F491_4F6C_DD1Du64);
-        let mut unit = || f64::from(byte()) / 255.0;
-        let (mut narrow_segments, mut wide_segments) = (0, 0);
-        for k in 0..600 {
-            let a = (-4.0 + 48.0 * unit(), -4.0 + 44.0 * unit());
-            let (len, angle) = (20.0 * unit(), 7.0 * unit());
-            let b = (a.0 + len * angle.cos(), a.1 + len * angle.sin());
-            let half = 0.3 + 2.0 * unit();
-            let Some(walk) = Walk::new(a, b, half, (0, h)) else {
-                continue;
-            };
-            let mut spans = vec![0u8; (w * h) as usize];
-            walk.each_row((0, w), |y, first, end| {
-                let py = walk.seg.py(y);
-                for x in first..end {
-                    let c = walk.seg.cover4(py, walk.seg.k(x), 1)[0];
-                    spans[(y * w + x) as usize] = c;
-                }
-            });
-            let Some((first, end)) = walk.narrow((0, w)) else {
-                wide_segments += 1;
-                continue;
-            };
-            narrow_segments += 1;
-            let mut ways = vec![false];
-            #[cfg(target_arch = "x86_64")]
-            if super::super::avx2::available() {
-                ways.push(true);
-            }
-            for avx2 in ways {
-                let mut rows = vec![0u8; (w * h) as usize];
-                walk.cover_narrow_with(avx2, first, end, |y, cover| {
-                    assert!(cover[(end - first) as usize..].iter().all(|&c| c == 0));
-                    let at = (y * w + first) as usize;
-                    rows[at..at + (end - first) as usize]
-                        .copy_from_slice(&cover[..(end - first) as usize]);
-                });
-                assert_eq!(
-                    rows, spans,
-                    "segment {k}: {a:?} → {b:?}, half {half}, AVX2 {avx2}"
-                );
-            }
-        }
-        // Both ways, and boxes of sixteen and seventeen columns among them.
-        assert!(
-            narrow_segments > 300 && wide_segments > 50,
-            "{narrow_segments}, {wide_segments}"
-        );
     }
 
     #[test]

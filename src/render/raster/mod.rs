@@ -42,6 +42,7 @@ mod convex;
 mod eight;
 mod lines;
 mod ramps;
+mod segment;
 mod shapes;
 
 use std::cell::RefCell;
