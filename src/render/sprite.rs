@@ -322,7 +322,14 @@ impl Sprite {
     /// Blends one layer only, the fill (0) or the outline (1), in `ink`, with the
     /// sprite's top-left pixel at (x, y).
     pub(crate) fn stamp_layer(&self, pixmap: &mut Pixmap, x: i64, y: i64, layer: usize, ink: Ink) {
+        // Rows of eight pixels or more eight at a time (the same bytes).
+        let avx2 = crate::render::raster::avx2_available();
         self.rows(pixmap, x, y, |pixels, covers| {
+            if avx2 && covers.len() >= 8 {
+                // SAFETY: the processor has AVX2.
+                unsafe { crate::render::raster::stamp_layer_row(pixels, covers, layer, &ink) };
+                return;
+            }
             for (d, c) in pixels.chunks_exact_mut(4).zip(covers) {
                 if c[layer] != 0 {
                     ink.blend(d, c[layer]);

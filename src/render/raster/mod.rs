@@ -52,7 +52,7 @@ use tiny_skia::Pixmap;
 use super::sprite::Ink;
 use clipper::ImageClip;
 
-pub(crate) use avx2::{available as avx2_available, stamp_row};
+pub(crate) use avx2::{available as avx2_available, stamp_layer_row, stamp_row};
 pub use convex::{cover_convex, fill_convex, fill_layers, fill_turned, fill_turned_apart};
 pub(crate) use eight::{prefetch, prefetch_around, AHEAD, PREFETCH_REACH};
 pub(crate) use lines::capsule_spans;

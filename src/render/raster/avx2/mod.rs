@@ -34,7 +34,7 @@ use crate::render::sprite::Ink;
 
 mod coverage;
 pub(in crate::render::raster) use coverage::blend_coverage;
-pub(crate) use coverage::stamp_row;
+pub(crate) use coverage::{stamp_layer_row, stamp_row};
 
 /// The widest image drawn here. Crossings are 16.16 fixed point of quarter-pixel
 /// columns, below 4 · 4096 · 65536 = 2^30 inside an image this wide (the chains are
