@@ -263,11 +263,28 @@ impl Sprite {
     /// position they were drawn for.
     pub(crate) fn trimmed(fill: &Pixmap, edge: &Pixmap, dx: i32, dy: i32) -> Sprite {
         let (w, h) = (fill.width() as usize, fill.height() as usize);
-        let coverage = |x: usize, y: usize| {
-            let k = 4 * (y * w + x) + 3;
-            [fill.data()[k], edge.data()[k]]
-        };
-        let Some((x0, y0, width, height, coverage)) = trim(w, h, coverage, |c| *c != [0, 0]) else {
+        let (fill, edge) = (fill.data(), edge.data());
+        // Each row's first and last pixel that either layer covers at all (alpha not
+        // zero), found in one pass over the row's pixels, and the box around them.
+        let mut rows = Vec::with_capacity(h);
+        let (mut x0, mut y0, mut x1, mut y1) = (w, h, 0, 0);
+        for y in 0..h {
+            let (f, e) = (
+                &fill[4 * y * w..4 * (y + 1) * w],
+                &edge[4 * y * w..4 * (y + 1) * w],
+            );
+            let covered = |x: &usize| f[4 * x + 3] | e[4 * x + 3] != 0;
+            let span = (0..w).find(covered).map(|a| {
+                let b = (a..w).rfind(covered).map_or(a, |l| l + 1);
+                (a, b)
+            });
+            if let Some((a, b)) = span {
+                (x0, x1) = (x0.min(a), x1.max(b));
+                (y0, y1) = (y0.min(y), y + 1);
+            }
+            rows.push(span);
+        }
+        if x0 >= x1 {
             return Sprite {
                 dx,
                 dy,
@@ -276,14 +293,19 @@ impl Sprite {
                 coverage: Vec::new(),
                 spans: Vec::new(),
             };
-        };
-        let spans = coverage
-            .chunks_exact(width)
-            .map(|row| {
-                let a = row.iter().position(|c| *c != [0, 0]).unwrap_or(0);
-                let b = row.iter().rposition(|c| *c != [0, 0]).map_or(a, |l| l + 1);
-                (a, b)
-            })
+        }
+        let (width, height) = (x1 - x0, y1 - y0);
+        let mut coverage = Vec::with_capacity(width * height);
+        for y in y0..y1 {
+            coverage.extend((x0..x1).map(|x| {
+                let k = 4 * (y * w + x) + 3;
+                [fill[k], edge[k]]
+            }));
+        }
+        // A row's span relative to the box; (0, 0) for a row that nothing covers.
+        let spans = rows[y0..y1]
+            .iter()
+            .map(|span| span.map_or((0, 0), |(a, b)| (a - x0, b - x0)))
             .collect();
         Sprite {
             dx: dx + x0 as i32,
