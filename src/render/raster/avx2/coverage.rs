@@ -236,6 +236,20 @@ mod tests {
         }
     }
 
+    /// Calls `check(covers, pixels)` for rows of every length up to 40, twenty of each:
+    /// pairs of coverages from [`coverage`] over random pixels.
+    fn each_row(byte: &mut impl FnMut() -> u8, mut check: impl FnMut(&[[u8; 2]], Vec<u8>)) {
+        for len in 0..=40usize {
+            for round in 0..20 {
+                let covers: Vec<[u8; 2]> = (0..len)
+                    .map(|i| [coverage(byte, round, i), coverage(byte, round, i)])
+                    .collect();
+                let pixels: Vec<u8> = (0..4 * len).map(|_| byte()).collect();
+                check(&covers, pixels);
+            }
+        }
+    }
+
     #[test]
     fn a_sprites_row_stamped_eight_pixels_at_a_time_is_stamped_pixel_by_pixel() {
         // Fill then edge, each opaque or translucent, over random pixels, rows of every
@@ -255,27 +269,21 @@ mod tests {
             (faint, dark),
             (faint, ghost),
         ] {
-            for len in 0..=40usize {
-                for round in 0..20 {
-                    let covers: Vec<[u8; 2]> = (0..len)
-                        .map(|i| [coverage(&mut byte, round, i), coverage(&mut byte, round, i)])
-                        .collect();
-                    let pixels: Vec<u8> = (0..4 * len).map(|_| byte()).collect();
-                    let mut one = pixels.clone();
-                    for (d, &[f, e]) in one.chunks_exact_mut(4).zip(&covers) {
-                        if f != 0 {
-                            fill.blend(d, f);
-                        }
-                        if e != 0 {
-                            edge.blend(d, e);
-                        }
+            each_row(&mut byte, |covers, pixels| {
+                let mut one = pixels.clone();
+                for (d, &[f, e]) in one.chunks_exact_mut(4).zip(covers) {
+                    if f != 0 {
+                        fill.blend(d, f);
                     }
-                    let mut eight = pixels;
-                    // SAFETY: the processor has AVX2 (checked above).
-                    unsafe { stamp_row(&mut eight, &covers, &fill, &edge) };
-                    assert_eq!(eight, one, "{fill:?} then {edge:?}, {covers:?}");
+                    if e != 0 {
+                        edge.blend(d, e);
+                    }
                 }
-            }
+                let mut eight = pixels;
+                // SAFETY: the processor has AVX2 (checked above).
+                unsafe { stamp_row(&mut eight, covers, &fill, &edge) };
+                assert_eq!(eight, one, "{fill:?} then {edge:?}, {covers:?}");
+            });
         }
     }
 
@@ -297,24 +305,18 @@ mod tests {
         ];
         for ink in inks {
             for layer in 0..2 {
-                for len in 0..=40usize {
-                    for round in 0..20 {
-                        let covers: Vec<[u8; 2]> = (0..len)
-                            .map(|i| [coverage(&mut byte, round, i), coverage(&mut byte, round, i)])
-                            .collect();
-                        let pixels: Vec<u8> = (0..4 * len).map(|_| byte()).collect();
-                        let mut one = pixels.clone();
-                        for (d, c) in one.chunks_exact_mut(4).zip(&covers) {
-                            if c[layer] != 0 {
-                                ink.blend(d, c[layer]);
-                            }
+                each_row(&mut byte, |covers, pixels| {
+                    let mut one = pixels.clone();
+                    for (d, c) in one.chunks_exact_mut(4).zip(covers) {
+                        if c[layer] != 0 {
+                            ink.blend(d, c[layer]);
                         }
-                        let mut eight = pixels;
-                        // SAFETY: the processor has AVX2 (checked above).
-                        unsafe { stamp_layer_row(&mut eight, &covers, layer, &ink) };
-                        assert_eq!(eight, one, "{ink:?}, layer {layer}, {covers:?}");
                     }
-                }
+                    let mut eight = pixels;
+                    // SAFETY: the processor has AVX2 (checked above).
+                    unsafe { stamp_layer_row(&mut eight, covers, layer, &ink) };
+                    assert_eq!(eight, one, "{ink:?}, layer {layer}, {covers:?}");
+                });
             }
         }
     }
