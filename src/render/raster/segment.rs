@@ -36,9 +36,10 @@ enum Way {
 /// may lie in: what covering it needs before its first row.
 pub(super) struct Walk {
     seg: Segment,
-    /// The unit normal.
+    /// The unit normal, and how far from the line a covered centre may lie, in f64.
     nx: f64,
     ny: f64,
+    reach: f64,
     /// The segment's start.
     a: (f64, f64),
     /// The columns of the segment's box, grown by the reach, as f64.
@@ -94,6 +95,7 @@ impl Walk {
             seg,
             nx: -uy,
             ny: ux,
+            reach,
             a,
             sx0,
             sx1,
@@ -115,7 +117,7 @@ impl Walk {
             return Way::Spans;
         }
         let widest = if self.nx.abs() > 1e-9 {
-            2.0 * f64::from(self.seg.reach) / self.nx.abs() + 1.0
+            2.0 * self.reach / self.nx.abs() + 1.0
         } else {
             f64::INFINITY
         };
@@ -130,8 +132,7 @@ impl Walk {
     /// may lie within the reach of the segment, if any.
     #[inline(always)]
     fn row_span(&self, y: i64, cols: (i64, i64)) -> Option<(i64, i64)> {
-        let reach = f64::from(self.seg.reach);
-        let (nx, ny, a) = (self.nx, self.ny, self.a);
+        let (nx, ny, a, reach) = (self.nx, self.ny, self.a, self.reach);
         let yc = y as f64 + 0.5;
         let (mut lo, mut hi) = (self.sx0, self.sx1);
         if nx.abs() > 1e-9 {
