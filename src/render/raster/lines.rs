@@ -66,9 +66,9 @@ pub fn stroke_polyline(pixmap: &mut Pixmap, points: &[(f64, f64)], width: f64, i
         // blend below), so it is only ever grown, never cleared whole: a long coil's
         // box is mostly pixels it does not touch, and clearing and scanning the whole
         // box cost it 40 µs where its stroke took a few (300 springs across the view).
-        // Fifteen bytes past the box, for the last row's last sixteen pixels.
-        if bytes.len() < bw * bh + 15 {
-            bytes.resize(bw * bh + 15, 0);
+        // Seven bytes past the box, for the last row's last chunk of eight pixels.
+        if bytes.len() < bw * bh + 7 {
+            bytes.resize(bw * bh + 7, 0);
         }
         spans.clear();
         spans.resize(bh, (bw, 0));
@@ -108,7 +108,7 @@ pub fn stroke_polyline(pixmap: &mut Pixmap, points: &[(f64, f64)], width: f64, i
             row[lo..hi].fill(0);
         }
         debug_assert!(
-            bytes[..bw * bh + 15].iter().all(|&c| c == 0),
+            bytes[..bw * bh + 7].iter().all(|&c| c == 0),
             "the buffer is left clear"
         );
     });
@@ -201,9 +201,9 @@ fn cover_segment(
         return;
     };
     // Keeps the larger of each pixel's coverage and the buffer's from pixel (x, y) on,
-    // widening the row's span to first..end at its first chunk. The buffer holds 15
-    // bytes past the box, so that the last row's last chunk may reach past it; lanes
-    // past `end` hold no coverage, which leaves what they reach as it is.
+    // widening the row's span to first..end at its first chunk. The buffer holds 7
+    // bytes past the box, so that the last row's last chunk of eight may reach past
+    // it; lanes past `end` hold no coverage, which leaves what they reach as it is.
     walk.cover(cols, |y, x, first, end, eight| {
         if x == first {
             let span = &mut spans[(y - by) as usize];
