@@ -192,6 +192,8 @@ impl Walk {
             unsafe { cover_avx2(self, way, cols, &mut chunk) };
             return;
         }
+        // Without x86-64 there is no AVX2 to ask for.
+        #[cfg(not(target_arch = "x86_64"))]
         let _ = avx2;
         let seg = &self.seg;
         let mut row = |y: i64, first: i64, end: i64| {
