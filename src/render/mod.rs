@@ -553,7 +553,7 @@ impl Renderer {
             state.changed.add_damage(&state.bodies);
             // Long arrows on many bodies, or many large bodies, mark much of the
             // frame; past a third of its tiles, compressing every row whole costs less
-            // than the tiles' bookkeeping (docs/performance.md, arrows over trails;
+            // than the tiles' bookkeeping (docs/performance-log.md, arrows over trails;
             // 500 turning dumbbells marked 41 to 46%: 1.96 ms by tiles, 1.69 whole,
             // `trail_probe`).
             let marked = state.changed.count();

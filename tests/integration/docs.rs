@@ -1,5 +1,6 @@
 //! The documentation stays true: every scene in README.md and `docs/` is checked as a
-//! scene, every relative link and image resolves, and every `#anchor` names a heading.
+//! scene, every relative link and image resolves, every `#anchor` names a heading, and
+//! every test that docs/performance.md names as holding a bound exists.
 //!
 //! Fenced TOML blocks carry a marker after the language, which docs/development.md
 //! explains: ```` ```toml scene ```` is a whole scene that must validate;
@@ -214,6 +215,52 @@ fn every_relative_link_and_image_in_the_docs_resolves() {
     assert!(count >= 30, "only {count} links were checked");
 }
 
+/// The tests a page names in its table rows, as `` `file.rs`: `a_test`, `another` ``:
+/// each (file, test name), in the order they appear.
+fn named_tests(markdown: &str) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    for line in markdown.lines().filter(|l| l.trim_start().starts_with('|')) {
+        for cell in line.split('|') {
+            // A cell that names its file first: `perf.rs`: `a`, `b`.
+            let Some((file, rest)) = cell.trim().split_once(": ") else {
+                continue;
+            };
+            let file = file.trim_matches('`');
+            if !file.ends_with(".rs") || file.contains(' ') {
+                continue;
+            }
+            for name in rest.split(',') {
+                let name = name.trim().trim_matches('`');
+                if !name.is_empty()
+                    && name
+                        .chars()
+                        .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_')
+                {
+                    out.push((file.to_string(), name.to_string()));
+                }
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn every_test_the_performance_page_names_exists() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let page = std::fs::read_to_string(root.join("docs/performance.md")).expect("readable");
+    let named = named_tests(&page);
+    for (file, name) in &named {
+        let source = std::fs::read_to_string(root.join("tests/integration").join(file))
+            .unwrap_or_else(|e| panic!("docs/performance.md names `{file}`: {e}"));
+        assert!(
+            source.contains(&format!("fn {name}(")),
+            "docs/performance.md names the test `{name}` in `{file}`, which has no such test"
+        );
+    }
+    // The table of what each fast way costs in pixels names a test for each way.
+    assert!(named.len() >= 15, "only {} tests were named", named.len());
+}
+
 #[test]
 fn the_checks_of_the_docs_can_fail() {
     // The helpers find what a broken page would hide: a missing anchor, a TOML block,
@@ -229,4 +276,13 @@ fn the_checks_of_the_docs_can_fail() {
         (1, "toml scene", 7)
     );
     assert!(parse(Path::new("doc.toml"), &b[0].text).is_err());
+    // A row naming its tests is read, and so is a test that does not exist.
+    let row = "| a way | `perf.rs`: `a_test_here`, `no_such_test` | not `a.rs` |";
+    assert_eq!(
+        named_tests(row),
+        vec![
+            ("perf.rs".to_string(), "a_test_here".to_string()),
+            ("perf.rs".to_string(), "no_such_test".to_string()),
+        ]
+    );
 }

@@ -540,7 +540,7 @@ impl BodyLook {
     /// along a straight edge by at most 1/64 of the fill's difference from what lies
     /// under it (the fill's edge and each side lie 0.75 pixel apart), a quarter at
     /// most anywhere. They cost about half the ring's scan: 1000 turning boxes of
-    /// their own sizes drew in 1.3 ms a frame instead of 2.4 (docs/performance.md).
+    /// their own sizes drew in 1.3 ms a frame instead of 2.4 (docs/performance-log.md).
     fn draw_scanned(&self, pixmap: &mut Pixmap, outline: &TurnedOutline, at: Transform) {
         let (fill, edge) = (Ink::of(self.fill), Ink::of(self.edge));
         let layers = fill.is_opaque() && edge.is_opaque();

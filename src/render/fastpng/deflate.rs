@@ -277,7 +277,7 @@ impl<'c> Deflate<'c> {
     ///
     /// This is the loop of `bytes_marked` over a tile's four words, with the sink taken
     /// once for a stretch of tiles instead of once a tile (a few per cent of a trail
-    /// frame's encoding; see docs/performance.md). The word's code is written out again
+    /// frame's encoding; see docs/performance-log.md). The word's code is written out again
     /// here rather than shared: a shared function, inlined, made whole rows about 4%
     /// slower (`trail_probe`'s last line, three alternated runs).
     #[inline]

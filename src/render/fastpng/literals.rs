@@ -11,7 +11,7 @@
 //! and, for tiles, the sums of their bytes for Adler-32. Looking up and shifting eight
 //! codes one by one took most of the coder's time on frames full of anti-aliased edges:
 //! made ahead, an `arrows-1000` frame encoded in 1.74 ms instead of 2.04 when this came
-//! (see docs/performance.md).
+//! (see docs/performance-log.md, "Literal codes eight words a register").
 
 use super::codes::Codes;
 
