@@ -8,12 +8,17 @@
 //! does not set the box spinning. Normals point from body b to body a, as in the
 //! article's impulse equation.
 
+use std::cell::RefCell;
+
 use glam::DVec2;
-use parry2d_f64::math::{Pose as ParryPose, Rot2};
+use parry2d_f64::math::{Pose as ParryPose, Rot2, Vector as ParryVector};
 use parry2d_f64::query::details::{
     contact_manifold_convex_ball, contact_manifold_cuboid_cuboid, contact_manifold_pfm_pfm,
 };
+use parry2d_f64::query::epa::EPA;
+use parry2d_f64::query::gjk::{self, CsoPoint, GJKResult, VoronoiSimplex};
 use parry2d_f64::query::{self, ContactManifold};
+use parry2d_f64::shape::{ConvexPolygon, SupportMap};
 
 use super::collider::{from_parry, to_parry, Collider, ColliderShape};
 use crate::sim::rigid::rotate;
@@ -232,19 +237,22 @@ pub fn separation(a: &Collider, pa: &Pose, b: &Collider, pb: &Pose) -> Option<Co
     {
         return discs(pa.r, *ra, pb.r, *rb, f64::INFINITY);
     }
-    let ga: &dyn parry2d_f64::shape::Shape = match &a.shape {
+    let sa: &ConvexPolygon = match &a.shape {
         ColliderShape::Convex { shape, .. } => shape.as_ref(),
         ColliderShape::Disc { .. } => return separation_ball(a, pa, b, pb),
     };
-    let ball_b;
-    let gb: &dyn parry2d_f64::shape::Shape = match &b.shape {
-        ColliderShape::Convex { shape, .. } => shape.as_ref(),
+    let (ppa, ppb) = (pa.to_parry(), pb.to_parry());
+    let c = match &b.shape {
+        // Two polygons: what `query::contact` does for them (GJK, then EPA when they
+        // overlap), with this thread's EPA instead of a new one per call.
+        ColliderShape::Convex { shape, .. } => {
+            support_maps_contact(&ppa, sa, &ppb, shape.as_ref(), f64::MAX)?
+        }
         ColliderShape::Disc { radius } => {
-            ball_b = parry2d_f64::shape::Ball::new(*radius);
-            &ball_b
+            let ball_b = parry2d_f64::shape::Ball::new(*radius);
+            query::contact(&ppa, sa, &ppb, &ball_b, f64::MAX).ok()??
         }
     };
-    let c = query::contact(&pa.to_parry(), ga, &pb.to_parry(), gb, f64::MAX).ok()??;
     // parry's normal1 points from a towards b, in world axes.
     let normal = -from_parry(c.normal1);
     let point = 0.5 * (from_parry(c.point1) + from_parry(c.point2));
@@ -257,6 +265,62 @@ pub fn separation(a: &Collider, pa: &Pose, b: &Collider, pb: &Pose) -> Option<Co
         gaps: [c.dist, c.dist],
         ids: [0, 0],
     })
+}
+
+thread_local! {
+    /// Each thread's expanding-polytope workspace, which parry clears at the start of
+    /// every query: the same answers as a new one, without its allocations.
+    static EPA_WORKSPACE: RefCell<EPA> = RefCell::new(EPA::new());
+}
+
+/// Returns what parry's `contact_support_map_support_map_with_params` returns for g2 at
+/// `pos12` in g1's frame (GJK from the direction of g2's centre, then EPA when the
+/// shapes overlap), but with this thread's EPA workspace instead of a new one.
+fn gjk_epa<G1, G2>(pos12: &ParryPose, g1: &G1, g2: &G2, prediction: f64) -> GJKResult
+where
+    G1: ?Sized + SupportMap,
+    G2: ?Sized + SupportMap,
+{
+    // GJK starts from the direction of g2's centre, or +x when the centres coincide.
+    let dir = pos12.translation.try_normalize().unwrap_or(ParryVector::X);
+    let mut simplex = VoronoiSimplex::new();
+    simplex.reset(CsoPoint::from_shapes(pos12, g1, g2, dir));
+    match gjk::closest_points(pos12, g1, g2, prediction, true, &mut simplex) {
+        // Overlapping: the origin is inside the Minkowski difference, and EPA finds its
+        // nearest boundary point; parry reports no contact when EPA fails.
+        GJKResult::Intersection => EPA_WORKSPACE
+            .with(|epa| epa.borrow_mut().closest_points(pos12, g1, g2, &simplex))
+            .map(|(p1, p2_1, n1)| GJKResult::ClosestPoints(p1, p2_1, n1))
+            .unwrap_or(GJKResult::NoIntersection(ParryVector::X)),
+        other => other,
+    }
+}
+
+/// Returns parry's contact between two support-mapped shapes g1 at `pos1` and g2 at
+/// `pos2` when their distance is at most `prediction`, in world axes: to the bit what
+/// `query::contact` returns for two polygons (parry's
+/// `contact_support_map_support_map`), but with this thread's EPA workspace.
+fn support_maps_contact(
+    pos1: &ParryPose,
+    g1: &dyn SupportMap,
+    pos2: &ParryPose,
+    g2: &dyn SupportMap,
+    prediction: f64,
+) -> Option<query::Contact> {
+    // The pose of g2 in g1's frame: pos12 = pos1⁻¹·pos2.
+    let pos12 = pos1.inv_mul(pos2);
+    let GJKResult::ClosestPoints(p1, p2_1, n1) = gjk_epa(&pos12, g1, g2, prediction) else {
+        return None;
+    };
+    // The distance along the normal, d = (p2 - p1)·n1, in g1's frame; p2 in g2's own
+    // frame is pos12⁻¹·p2, and the normal on g2 is R12⁻¹·(-n1).
+    let dist = (p2_1 - p1).dot(n1);
+    let p2 = pos12.inverse_transform_point(p2_1);
+    let n2 = pos12.rotation.inverse() * -n1;
+    let mut c = query::Contact::new(p1, p2, n1, n2, dist);
+    // Back to world axes: each point and normal by its own shape's pose.
+    c.transform_by_mut(pos1, pos2);
+    Some(c)
 }
 
 /// The disc-first case of [`separation`], by symmetry.
@@ -567,5 +631,97 @@ mod feature_tests {
                 assert!(ka.iter().all(|k| !kb.contains(k)), "{ka:x?} and {kb:x?}");
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod workspace_tests {
+    use super::*;
+
+    /// Returns the next of a fixed sequence of numbers in [0, 1), from the state s:
+    /// s ← 6364136223846793005·s + 1442695040888963407 (mod 2⁶⁴), its top 53 bits / 2⁵³.
+    fn next(s: &mut u64) -> f64 {
+        *s = s
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (*s >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Returns parry's polygon of a collider.
+    fn polygon(c: &Collider) -> &ConvexPolygon {
+        match &c.shape {
+            ColliderShape::Convex { shape, .. } => shape,
+            ColliderShape::Disc { .. } => panic!("a polygon"),
+        }
+    }
+
+    #[test]
+    fn the_separation_answers_to_the_bit_as_parry_does() {
+        // A triangle, a pentagon and a box (as a polygon), in every pair, at poses that
+        // overlap (EPA), touch, or lie apart (GJK alone).
+        let shapes = [
+            Collider::polygon(
+                0,
+                vec![
+                    DVec2::new(-0.5, -0.3),
+                    DVec2::new(0.6, -0.2),
+                    DVec2::new(0.0, 0.7),
+                ],
+                1.0,
+            )
+            .expect("convex"),
+            Collider::polygon(
+                1,
+                (0..5)
+                    .map(|k| {
+                        let t = 2.0 * std::f64::consts::PI * f64::from(k) / 5.0;
+                        DVec2::new(0.8 * t.cos(), 0.6 * t.sin())
+                    })
+                    .collect(),
+                1.0,
+            )
+            .expect("convex"),
+            Collider::polygon(
+                2,
+                vec![
+                    DVec2::new(-1.0, -0.25),
+                    DVec2::new(1.0, -0.25),
+                    DVec2::new(1.0, 0.25),
+                    DVec2::new(-1.0, 0.25),
+                ],
+                1.0,
+            )
+            .expect("convex"),
+        ];
+        let mut s = 7u64;
+        let mut overlapping = 0;
+        for _ in 0..4000 {
+            let a = &shapes[(next(&mut s) * 3.0) as usize];
+            let b = &shapes[(next(&mut s) * 3.0) as usize];
+            let pa = Pose::new(DVec2::new(next(&mut s), next(&mut s)), 7.0 * next(&mut s));
+            let pb = Pose::new(
+                DVec2::new(3.0 * next(&mut s) - 1.0, 3.0 * next(&mut s) - 1.0),
+                7.0 * next(&mut s),
+            );
+            // The separation, against parry's own query.
+            let ours = separation(a, &pa, b, &pb).expect("two polygons");
+            let theirs = query::contact(
+                &pa.to_parry(),
+                polygon(a),
+                &pb.to_parry(),
+                polygon(b),
+                f64::MAX,
+            )
+            .expect("supported")
+            .expect("within reach");
+            assert_eq!(ours.gap.to_bits(), theirs.dist.to_bits());
+            let point = 0.5 * (from_parry(theirs.point1) + from_parry(theirs.point2));
+            let bits = |v: DVec2| [v.x.to_bits(), v.y.to_bits()];
+            assert_eq!(bits(ours.point), bits(point));
+            assert_eq!(bits(ours.normal), bits(-from_parry(theirs.normal1)));
+            overlapping += usize::from(ours.gap < 0.0);
+        }
+        // Both GJK alone and EPA were asked.
+        assert!(overlapping > 100 && overlapping < 3900, "{overlapping}");
     }
 }
