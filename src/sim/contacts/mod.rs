@@ -43,6 +43,7 @@
 
 mod broad_phase;
 pub mod collider;
+mod gjk_epa;
 pub mod narrow_phase;
 mod overlaps;
 mod relax;
