@@ -25,11 +25,12 @@ thread_local! {
 /// Returns what parry's `contact_support_map_support_map_with_params` returns for g2 at
 /// `pos12` in g1's frame (GJK from the direction of g2's centre, then EPA when the
 /// shapes overlap), but with this thread's EPA workspace instead of a new one.
-fn gjk_epa<G1, G2>(pos12: &ParryPose, g1: &G1, g2: &G2, prediction: f64) -> GJKResult
-where
-    G1: ?Sized + SupportMap,
-    G2: ?Sized + SupportMap,
-{
+fn gjk_epa(
+    pos12: &ParryPose,
+    g1: &dyn SupportMap,
+    g2: &dyn SupportMap,
+    prediction: f64,
+) -> GJKResult {
     // GJK starts from the direction of g2's centre, or +x when the centres coincide.
     let dir = pos12.translation.try_normalize().unwrap_or(ParryVector::X);
     let mut simplex = VoronoiSimplex::new();
