@@ -41,6 +41,7 @@
 //! (asleep or not), and checkpoints carry both, so `--resume` and shards give the
 //! bytes of a single run.
 
+mod box_features;
 mod broad_phase;
 pub mod collider;
 mod gjk_epa;

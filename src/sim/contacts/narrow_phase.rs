@@ -16,6 +16,7 @@ use parry2d_f64::query::details::{
 use parry2d_f64::query::{self, ContactManifold};
 use parry2d_f64::shape::ConvexPolygon;
 
+use super::box_features::name_box_features;
 use super::collider::{from_parry, to_parry, Collider, ColliderShape};
 use super::gjk_epa::support_maps_contact;
 use crate::sim::rigid::rotate;
@@ -198,20 +199,34 @@ pub fn contact(
             }
             Some(c)
         }
-        (ColliderShape::Convex { shape: sa, .. }, ColliderShape::Disc { .. }) => {
+        (
+            ColliderShape::Convex {
+                shape: sa, cuboid, ..
+            },
+            ColliderShape::Disc { .. },
+        ) => {
             let ball = b.ball()?;
             let mut m = ContactManifold::<(), ()>::new();
             let pos12 = pa.to_parry().inv_mul(&pb.to_parry());
-            contact_manifold_convex_ball(
-                &pos12,
-                sa.as_ref(),
-                &ball,
-                None,
-                None,
-                prediction,
-                &mut m,
-                false,
-            );
+            if let Some(ca) = cuboid {
+                // A box: parry projects the disc's centre onto it in closed form
+                // (clamping to its half-extents), where a polygon's projection is GJK's
+                // iterations.
+                contact_manifold_convex_ball(
+                    &pos12, ca, &ball, None, None, prediction, &mut m, false,
+                );
+            } else {
+                contact_manifold_convex_ball(
+                    &pos12,
+                    sa.as_ref(),
+                    &ball,
+                    None,
+                    None,
+                    prediction,
+                    &mut m,
+                    false,
+                );
+            }
             from_manifold(&m, pa, pb, tol)
         }
         (ColliderShape::Disc { .. }, ColliderShape::Convex { .. }) => {
@@ -234,8 +249,8 @@ pub fn separation(a: &Collider, pa: &Pose, b: &Collider, pb: &Pose) -> Option<Co
     {
         return discs(pa.r, *ra, pb.r, *rb, f64::INFINITY);
     }
-    let sa: &ConvexPolygon = match &a.shape {
-        ColliderShape::Convex { shape, .. } => shape.as_ref(),
+    let (sa, cuboid_a): (&ConvexPolygon, _) = match &a.shape {
+        ColliderShape::Convex { shape, cuboid, .. } => (shape.as_ref(), cuboid),
         ColliderShape::Disc { .. } => return separation_ball(a, pa, b, pb),
     };
     let (ppa, ppb) = (pa.to_parry(), pb.to_parry());
@@ -245,9 +260,14 @@ pub fn separation(a: &Collider, pa: &Pose, b: &Collider, pb: &Pose) -> Option<Co
         ColliderShape::Convex { shape, .. } => {
             support_maps_contact(&ppa, sa, &ppb, shape.as_ref(), f64::MAX)?
         }
+        // A polygon and a disc: parry projects the disc's centre onto the polygon,
+        // in closed form for a box.
         ColliderShape::Disc { radius } => {
             let ball_b = parry2d_f64::shape::Ball::new(*radius);
-            query::contact(&ppa, sa, &ppb, &ball_b, f64::MAX).ok()??
+            match cuboid_a {
+                Some(ca) => query::contact(&ppa, ca, &ppb, &ball_b, f64::MAX).ok()??,
+                None => query::contact(&ppa, sa, &ppb, &ball_b, f64::MAX).ok()??,
+            }
         }
     };
     // parry's normal1 points from a towards b, in world axes.
@@ -337,45 +357,6 @@ fn from_manifold(m: &ContactManifold<(), ()>, pa: &Pose, pb: &Pose, tol: f64) ->
         gaps,
         ids,
     })
-}
-
-/// Names the features of two boxes in a manifold of parry's box–box test: a vertex by
-/// the signs of its coordinates (bit 0 for x < 0, bit 1 for y < 0, as parry means to),
-/// a face by its outward normal (the manifold's normal in that box's frame: 0 for +x,
-/// 1 for -x, 2 for +y, 3 for -y).
-///
-/// parry2d-f64 0.31 names a box's vertex by bits 31 and 30 of its coordinates' bit
-/// patterns (`Cuboid::vertex_feature_id`), the sign bits of an `f32` but mantissa bits
-/// of an `f64`; so the two vertices of a face often get the same id, and the two
-/// points of a box resting on another then share one key in the warm start, each
-/// starting from the other's impulses. The 20-row pyramid's solver then never
-/// converged: each step's first sweep changed an impulse by a fifth of the largest.
-/// Its face ids are built from those vertex ids, so a box's four faces could share
-/// one, and a box tipping onto another face over another box's corners kept its keys.
-/// The two points of a manifold are the ends of the overlap of two faces, each a
-/// vertex of one box, so with vertices told apart no two share a key.
-fn name_box_features(m: &mut ContactManifold<(), ()>) {
-    /// parry's `PackedFeatureId` headers of a vertex and a face, in the top two bits.
-    const VERTEX: u32 = 0b01 << 30;
-    const FACE: u32 = 0b11 << 30;
-    const HEADER: u32 = 0b11 << 30;
-    let face = |n: parry2d_f64::math::Vector| {
-        if n.x.abs() >= n.y.abs() {
-            FACE | u32::from(n.x < 0.0)
-        } else {
-            FACE | 2 | u32::from(n.y < 0.0)
-        }
-    };
-    let (face1, face2) = (face(m.local_n1), face(m.local_n2));
-    let name = |id: &mut u32, local: parry2d_f64::math::Vector, face: u32| match *id & HEADER {
-        VERTEX => *id = VERTEX | u32::from(local.x < 0.0) | u32::from(local.y < 0.0) << 1,
-        FACE => *id = face,
-        _ => {}
-    };
-    for p in &mut m.points {
-        name(&mut p.fid1.0, p.local_p1, face1);
-        name(&mut p.fid2.0, p.local_p2, face2);
-    }
 }
 
 #[cfg(test)]
@@ -666,3 +647,6 @@ mod workspace_tests {
         assert!(overlapping > 100 && overlapping < 3900, "{overlapping}");
     }
 }
+
+#[cfg(test)]
+mod disc_box_tests;
