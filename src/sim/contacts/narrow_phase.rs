@@ -14,7 +14,7 @@ use parry2d_f64::query::details::{
     contact_manifold_convex_ball, contact_manifold_cuboid_cuboid, contact_manifold_pfm_pfm,
 };
 use parry2d_f64::query::{self, ContactManifold};
-use parry2d_f64::shape::ConvexPolygon;
+use parry2d_f64::shape::{ConvexPolygon, Cuboid, Shape};
 
 use super::box_features::name_box_features;
 use super::collider::{from_parry, to_parry, Collider, ColliderShape};
@@ -208,25 +208,10 @@ pub fn contact(
             let ball = b.ball()?;
             let mut m = ContactManifold::<(), ()>::new();
             let pos12 = pa.to_parry().inv_mul(&pb.to_parry());
-            if let Some(ca) = cuboid {
-                // A box: parry projects the disc's centre onto it in closed form
-                // (clamping to its half-extents), where a polygon's projection is GJK's
-                // iterations.
-                contact_manifold_convex_ball(
-                    &pos12, ca, &ball, None, None, prediction, &mut m, false,
-                );
-            } else {
-                contact_manifold_convex_ball(
-                    &pos12,
-                    sa.as_ref(),
-                    &ball,
-                    None,
-                    None,
-                    prediction,
-                    &mut m,
-                    false,
-                );
-            }
+            let shape = box_or_polygon(cuboid, sa);
+            contact_manifold_convex_ball(
+                &pos12, shape, &ball, None, None, prediction, &mut m, false,
+            );
             from_manifold(&m, pa, pb, tol)
         }
         (ColliderShape::Disc { .. }, ColliderShape::Convex { .. }) => {
@@ -260,14 +245,10 @@ pub fn separation(a: &Collider, pa: &Pose, b: &Collider, pb: &Pose) -> Option<Co
         ColliderShape::Convex { shape, .. } => {
             support_maps_contact(&ppa, sa, &ppb, shape.as_ref(), f64::MAX)?
         }
-        // A polygon and a disc: parry projects the disc's centre onto the polygon,
-        // in closed form for a box.
         ColliderShape::Disc { radius } => {
             let ball_b = parry2d_f64::shape::Ball::new(*radius);
-            match cuboid_a {
-                Some(ca) => query::contact(&ppa, ca, &ppb, &ball_b, f64::MAX).ok()??,
-                None => query::contact(&ppa, sa, &ppb, &ball_b, f64::MAX).ok()??,
-            }
+            let shape = box_or_polygon(cuboid_a, sa);
+            query::contact(&ppa, shape, &ppb, &ball_b, f64::MAX).ok()??
         }
     };
     // parry's normal1 points from a towards b, in world axes.
@@ -282,6 +263,16 @@ pub fn separation(a: &Collider, pa: &Pose, b: &Collider, pb: &Pose) -> Option<Co
         gaps: [c.dist, c.dist],
         ids: [0, 0],
     })
+}
+
+/// Returns the shape parry should project a disc's centre onto: a box's cuboid, whose
+/// projection is a closed form (clamping to its half-extents), or the polygon, whose
+/// projection is GJK's iterations. The two agree to round-off (`disc_box_tests.rs`).
+fn box_or_polygon<'a>(cuboid: &'a Option<Cuboid>, polygon: &'a ConvexPolygon) -> &'a dyn Shape {
+    match cuboid {
+        Some(c) => c,
+        None => polygon,
+    }
 }
 
 /// The disc-first case of [`separation`], by symmetry.
@@ -562,7 +553,7 @@ mod workspace_tests {
 
     /// Returns the next of a fixed sequence of numbers in [0, 1), from the state s:
     /// s ← 6364136223846793005·s + 1442695040888963407 (mod 2⁶⁴), its top 53 bits / 2⁵³.
-    fn next(s: &mut u64) -> f64 {
+    pub(super) fn next(s: &mut u64) -> f64 {
         *s = s
             .wrapping_mul(6_364_136_223_846_793_005)
             .wrapping_add(1_442_695_040_888_963_407);

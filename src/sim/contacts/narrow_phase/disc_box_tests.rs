@@ -3,17 +3,10 @@
 
 use glam::DVec2;
 
+use super::workspace_tests::next;
 use super::{contact, separation, Pose};
 use crate::sim::contacts::collider::Collider;
 use crate::sim::rigid::rotate;
-
-/// Returns the next of a fixed sequence of numbers in [0, 1) (as `workspace_tests`).
-fn next(s: &mut u64) -> f64 {
-    *s = s
-        .wrapping_mul(6_364_136_223_846_793_005)
-        .wrapping_add(1_442_695_040_888_963_407);
-    (*s >> 11) as f64 / (1u64 << 53) as f64
-}
 
 #[test]
 fn a_disc_meets_a_box_as_it_meets_the_same_box_as_a_polygon() {
