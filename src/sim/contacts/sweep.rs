@@ -328,12 +328,17 @@ impl Contacts {
                     -shift * s.inv[j].mass,
                 );
             }
-            for k in [i, j] {
+            // When both bodies move, j is requeried after i, with j's version raised
+            // between the two: so i's requery need not search the pair (i, j), whose
+            // event would carry j's old version and never be taken. j's requery
+            // searches it.
+            let then = (!fixed(&s.inv, j)).then_some(j);
+            for (k, next) in [(i, then), (j, None)] {
                 if fixed(&s.inv, k) {
                     continue;
                 }
                 s.version[k] += 1;
-                if !requery(k, lambda, colliders, s, &margin, &tol, rest) {
+                if !requery(k, next, lambda, colliders, s, &margin, &tol, rest) {
                     return Err(longest_path(colliders, start, end, budget));
                 }
             }
@@ -579,9 +584,14 @@ fn restart(p: &Path, lambda: f64, dv: DVec2, dw: f64, h: f64, shift: DVec2) -> P
 
 /// Finds the later impacts of collider k, struck at λ: its new swept box is tested
 /// against the boxes the step began with (for colliders not struck yet) and against
-/// the current boxes of those struck already.
+/// the current boxes of those struck already. The pair of k and `next`, the collider
+/// requeried next, is left to that requery: `next`'s version rises before it, so an
+/// event found here would be stale (it is still counted against the budget and
+/// recorded as found, as its requery does).
+#[allow(clippy::too_many_arguments)]
 fn requery(
     k: usize,
+    next: Option<usize>,
     lambda: f64,
     colliders: &[super::Collider],
     s: &mut Scratch,
@@ -612,6 +622,9 @@ fn requery(
         }
         let (i, j) = (k.min(m), k.max(m));
         s.found.push((i as u32, j as u32));
+        if next == Some(m) {
+            continue;
+        }
         if let Some(at) = time_of_impact(
             &colliders[i],
             &s.paths[i],

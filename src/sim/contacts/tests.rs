@@ -50,6 +50,76 @@ fn a_step_that_would_end_overlapping_is_turned_back_at_the_instant_of_touch() {
     assert!((end.pos[0].x - -0.6).abs() < 1e-15 && (end.pos[1].x - 0.6).abs() < 1e-15);
 }
 
+/// Returns how many times-of-impact searches `f` began on this thread, and its result.
+fn searches<T>(f: impl FnOnce() -> T) -> (usize, T) {
+    use super::toi::tests::SEARCHES;
+    SEARCHES.with(|c| c.set(0));
+    let out = f();
+    (SEARCHES.with(|c| c.get()), out)
+}
+
+#[test]
+fn a_struck_pair_is_searched_again_once_by_the_requery_of_its_second_body() {
+    // The head-on pair of the test above: one search when the step begins, then after
+    // their impact each body is requeried, and the pair is searched by the second
+    // body's requery only (the first's would carry the second's old version).
+    let (system, start, mut contacts) = two_discs(
+        DVec2::new(-0.6, 0.0),
+        DVec2::new(2.0, 0.0),
+        DVec2::new(0.6, 0.0),
+        DVec2::new(-2.0, 0.0),
+    );
+    contacts.record(true);
+    let mut end = start.clone();
+    for i in 0..2 {
+        end.pos[i] += 0.1 * start.vel[i];
+    }
+    let (count, changed) = searches(|| contacts.resolve(&system, &start, &mut end, 0.0, 0.1));
+    assert!(changed.expect("no overlap is left"));
+    assert_eq!(contacts.take_log().len(), 1);
+    assert_eq!(count, 2);
+}
+
+#[test]
+fn a_body_struck_against_a_static_one_searches_the_pair_again() {
+    // A 1 × 0.5 box (collider 0) falling flat at 3 m/s onto a static floor (collider
+    // 1, the later one) strikes it within the step. The floor is never requeried, so
+    // the box's requery must search the pair itself: two searches, and after the
+    // impact (e = 0.5, both bottom corners at once) the box rises at 1.5 m/s.
+    let system = System::rigid(
+        vec![2.0, 0.0],
+        vec![2.0 * 1.25 / 12.0, 0.0],
+        vec![DVec2::ZERO; 2],
+        &[],
+    );
+    let mut start = State::new(
+        0.0,
+        vec![DVec2::new(0.3, 0.26), DVec2::new(0.0, -0.5)],
+        vec![DVec2::new(0.0, -3.0), DVec2::ZERO],
+    );
+    start.angle = vec![0.0, 0.0];
+    start.omega = vec![0.0, 0.0];
+    let mut contacts = Contacts::new(
+        vec![
+            Collider::rectangle(0, 1.0, 0.5, 0.5).expect("a box"),
+            Collider::rectangle(1, 4.0, 1.0, 0.5).expect("a box"),
+        ],
+        None,
+    );
+    contacts.record(true);
+    let mut end = start.clone();
+    end.pos[0] += 0.01 * start.vel[0];
+    let (count, changed) = searches(|| contacts.resolve(&system, &start, &mut end, 0.0, 0.01));
+    assert!(changed.expect("no overlap is left"));
+    assert_eq!(contacts.take_log().len(), 1);
+    assert_eq!(count, 2);
+    assert!(
+        (end.vel[0].y - 1.5).abs() < 1e-12,
+        "rebound {}",
+        end.vel[0].y
+    );
+}
+
 #[test]
 fn bodies_left_overlapping_deeper_than_the_tolerance_are_an_overlap() {
     // Already 0.1 m into each other and parting too slowly to leave it: nothing an

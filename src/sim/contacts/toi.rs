@@ -90,6 +90,8 @@ pub fn time_of_impact(
     tol: f64,
     rest: f64,
 ) -> Option<f64> {
+    #[cfg(test)]
+    tests::SEARCHES.with(|c| c.set(c.get() + 1));
     if let (ColliderShape::Disc { radius: ra }, ColliderShape::Disc { radius: rb }) =
         (&a.shape, &b.shape)
     {
@@ -330,7 +332,7 @@ fn sample(a: &Collider, pa: &Path, b: &Collider, pb: &Path, from: f64, lim: Limi
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::sim::contacts::narrow_phase::Contact;
     use std::cell::Cell;
@@ -340,6 +342,8 @@ mod tests {
         pub(super) static SAMPLED: Cell<usize> = const { Cell::new(0) };
         /// How many instants this thread's samplings tested.
         pub(super) static HITS: Cell<usize> = const { Cell::new(0) };
+        /// How many searches this thread began (`time_of_impact` calls).
+        pub(in crate::sim::contacts) static SEARCHES: Cell<usize> = const { Cell::new(0) };
     }
 
     /// Returns how many times `f` made this thread's searches sample, and its result.
