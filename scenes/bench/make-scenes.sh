@@ -3,7 +3,8 @@
 # writes them (issue #16): the same moving discs as circles-1000.toml, but in the
 # default colour cycle, and variants with 10,000 bodies, velocity arrows, trails, mixed
 # shapes, turning boxes, shapes of their own sizes with trails, and springs shown as
-# coils, scattered and in a cloth. Run from the repository's root:
+# coils, scattered and in a cloth; and two contact scenes, mixed shapes on a ramp and
+# a pour of turning polygons into a bucket. Run from the repository's root:
 #   sh scenes/bench/make-scenes.sh
 # The numbers come from a Park-Miller generator (x <- 16807·x mod 2^31 - 1, exact in
 # awk's doubles) and are printed with 4 decimals, so every run writes the same files.
@@ -320,3 +321,91 @@ shape = { box = { width = 6.0, height = 0.2 } }
 HEAD
     mixed_contacts 300 29
 } >mixed-contacts-300.toml
+
+# polygon_pour N SEED: N bodies of six shapes (discs, boxes, triangles, pentagons,
+# hexagons and octagons), each of its own size, angle and spin, on a grid 16 wide and
+# 0.36 apart (no two touch at the start: the largest reaches 0.171 from its centre).
+polygon_pour() {
+    awk -v n="$1" -v seed="$2" '
+    function rnd() { x = (x * 16807) % 2147483647; return x / 2147483647 }
+    function uniform(a, b) { return a + (b - a) * rnd() }
+    BEGIN {
+        x = seed
+        pi = 3.141592653589793
+        for (i = 0; i < n; i++) {
+            px = -2.7 + 0.36 * (i % 16) + uniform(-0.01, 0.01)
+            py = 0.4 + 0.36 * int(i / 16) + uniform(-0.01, 0.01)
+            printf "[[body]]\nmass = %.1f\n", 1 + int(2 * rnd())
+            printf "position = [%.4f, %.4f]\nvelocity = [%.4f, %.4f]\n", px, py, uniform(-0.5, 0.5), uniform(-1, 0)
+            printf "angle = %.4f\nangular_velocity = %.4f\n", uniform(0, 6.2832), uniform(-2, 2)
+            k = int(6 * rnd()); s = uniform(0.08, 0.14)
+            if (k == 0) printf "shape = { circle = { radius = %.4f } }\n", s
+            else if (k == 1) printf "shape = { box = { width = %.4f, height = %.4f } }\n", 2 * s, 1.4 * s
+            else if (k == 2) printf "shape = { polygon = { points = [[%.4f, %.4f], [%.4f, %.4f], [0.0, %.4f]] } }\n", -s, -0.6 * s, s, -0.6 * s, s
+            else {
+                m = (k == 3) ? 5 : (k == 4) ? 6 : 8
+                printf "shape = { polygon = { points = ["
+                for (j = 0; j < m; j++) {
+                    if (j > 0) printf ", "
+                    printf "[%.4f, %.4f]", s * cos(2 * pi * j / m), s * sin(2 * pi * j / m)
+                }
+                printf "] } }\n"
+            }
+        }
+    }'
+    printf '\n'
+}
+
+{
+    cat <<'HEAD'
+# Benchmark: 400 discs, boxes, triangles and regular polygons of five to eight sides,
+# one [[body]] table each in the default colours, each of its own size, angle and
+# spin, poured into a bucket of three static walls under gravity (friction 0.4,
+# restitution 0.2, dt = 1/240 s): a pile of turning polygons, whose time goes to the
+# times of impact of polygons in contact (parry's GJK and EPA), which the bench's
+# other scenes (discs, and boxes' closed forms) barely meet. Written by
+# scenes/bench/make-scenes.sh. Bench it with
+#   physframes bench scenes/bench/polygon-pour-400.toml --simulate-only --repeat 3
+name = "polygon-pour-400"
+
+[simulation]
+dt = 0.004166666666666667   # 1/240 s
+duration = 3.0
+
+[render]
+width = 800
+height = 800
+fps = 30
+view = { min = [-3.6, -0.6], max = [3.6, 12.6] }
+
+[contacts]
+friction = 0.4
+restitution = 0.2
+
+[[force]]
+kind = "gravity"
+
+[[body]]
+name = "bottom"
+static = true
+position = [0.0, -0.25]
+shape = { box = { width = 7.0, height = 0.5 } }
+color = "#555555"
+
+[[body]]
+name = "left"
+static = true
+position = [-3.25, 6.0]
+shape = { box = { width = 0.5, height = 12.0 } }
+color = "#555555"
+
+[[body]]
+name = "right"
+static = true
+position = [3.25, 6.0]
+shape = { box = { width = 0.5, height = 12.0 } }
+color = "#555555"
+
+HEAD
+    polygon_pour 400 41
+} >polygon-pour-400.toml
