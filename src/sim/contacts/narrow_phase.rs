@@ -548,12 +548,12 @@ mod feature_tests {
 }
 
 #[cfg(test)]
-mod workspace_tests {
+pub(super) mod workspace_tests {
     use super::*;
 
     /// Returns the next of a fixed sequence of numbers in [0, 1), from the state s:
     /// s ← 6364136223846793005·s + 1442695040888963407 (mod 2⁶⁴), its top 53 bits / 2⁵³.
-    pub(super) fn next(s: &mut u64) -> f64 {
+    pub(in crate::sim::contacts) fn next(s: &mut u64) -> f64 {
         *s = s
             .wrapping_mul(6_364_136_223_846_793_005)
             .wrapping_add(1_442_695_040_888_963_407);
