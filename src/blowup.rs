@@ -108,6 +108,27 @@ pub fn blow_up_message(scene: &Scene, b: &BlowUp) -> String {
             ),
         };
     }
+    if let Some((o, q)) = b.overlap.and_then(|o| o.squeezed.map(|q| (o, q))) {
+        let (light, heavy) = (
+            &scene.bodies[q.body as usize].name,
+            &scene.bodies[q.by as usize].name,
+        );
+        let because = if o.crowded {
+            format!(", because the step met more impacts than it answers ({IMPACTS_PER_BODY} per colliding body)")
+        } else {
+            String::new()
+        };
+        return format!(
+            "the simulation stopped: bodies `{}` and `{}` overlap by {:e} after step {} (t = {}), deeper than their contact tolerance{because}: body `{light}` is pressed by `{heavy}`, {} times its mass, and impulses one pair at a time hold a light body under a far heavier one only by passing the push between them about as many times as that ratio; integrator {integrator}, dt = {}\nhint: bring the masses of `{light}` and `{heavy}` closer (ratios of a few hundred or more are past what a step answers), or leave the light bodies out of [contacts] `bodies`",
+            scene.bodies[o.a].name,
+            scene.bodies[o.b].name,
+            o.depth,
+            b.step,
+            Readable(b.t),
+            about(f64::from(q.ratio)),
+            scene.simulation.dt
+        );
+    }
     if let Some(o) = b.overlap.filter(|o| o.crowded) {
         return format!(
             "the simulation stopped: bodies `{}` and `{}` overlap by {:e} after step {} (t = {}), deeper than their contact tolerance, because the step met more impacts than it answers ({IMPACTS_PER_BODY} per colliding body): a crowd of bodies was struck faster than impulses one pair at a time can settle it; integrator {integrator}, dt = {}\nhint: start the bodies closer to where they come to rest (pour them from lower, or fewer at a time), or give them lower speeds",
@@ -172,6 +193,40 @@ position = [0.0, 0.0]
 shape = { circle = { radius = 0.5 } }
 "#;
 
+    fn squeezed(crowded: bool) -> BlowUp {
+        let mut b = overlap(crowded);
+        if let Some(o) = b.overlap.as_mut() {
+            o.squeezed = Some(crate::sim::contacts::Squeezed {
+                body: 1,
+                by: 0,
+                ratio: 4999.999999,
+            });
+        }
+        b
+    }
+
+    /// An overlap of a light body beside a far heavier one names both and their ratio,
+    /// and asks for closer masses, not a smaller dt or a gentler start.
+    #[test]
+    fn an_overlap_beside_a_far_heavier_body_asks_for_closer_masses() {
+        let scene = crate::scene::parse(Path::new("two.toml"), TWO_DISCS).expect("a valid scene");
+        for crowded in [false, true] {
+            let m = blow_up_message(&scene, &squeezed(crowded));
+            assert!(m.contains("bodies `upper` and `lower` overlap by 2.5e-1 after step 7"));
+            assert!(
+                m.contains("body `lower` is pressed by `upper`, 5000 times its mass"),
+                "{m}"
+            );
+            assert!(
+                m.contains("bring the masses of `lower` and `upper` closer"),
+                "{m}"
+            );
+            assert_eq!(m.contains("per colliding body"), crowded, "{m}");
+            assert!(!m.contains("a smaller dt"), "{m}");
+            assert!(!m.contains("closer to where they come to rest"), "{m}");
+        }
+    }
+
     fn overlap(crowded: bool) -> BlowUp {
         BlowUp {
             body: 0,
@@ -183,6 +238,7 @@ shape = { circle = { radius = 0.5 } }
                 b: 1,
                 depth: 0.25,
                 crowded,
+                squeezed: None,
             }),
             unanswerable: None,
         }

@@ -189,6 +189,20 @@ pub struct Overlap {
     /// stopped answering them: a crowd struck faster than impulses one pair at a time
     /// can settle, rather than a step too long for the contacts.
     pub crowded: bool,
+    /// The lighter of the two, when a far heavier moving body pressed on it.
+    pub squeezed: Option<Squeezed>,
+}
+
+/// A light body pressed by a far heavier one against another: what an overlap it is
+/// left in is put down to (see `sweep.rs`'s `squeezed`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Squeezed {
+    /// The scene's index of the light body.
+    pub body: u32,
+    /// The heaviest moving body it could meet in the step, and how many times its
+    /// mass that is (for a message: in 32 bits, so that a blow-up stays small).
+    pub by: u32,
+    pub ratio: f32,
 }
 
 /// A body whose contacts a step cannot answer, and why: the run stops there rather

@@ -61,6 +61,7 @@ pub(super) fn overlaps(
                         b: cj.body,
                         depth: -ct.gap,
                         crowded: false,
+                        squeezed: None,
                     });
                 }
             }

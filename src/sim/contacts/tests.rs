@@ -193,3 +193,44 @@ fn a_static_body_takes_no_impulse_and_a_flat_landing_no_spin() {
         log[0].point
     );
 }
+
+#[test]
+fn a_light_body_left_overlapping_beside_a_far_heavier_one_is_reported_squeezed() {
+    // Colliders: a static floor (body 0), a 10 g pebble (1), a heavy block (2) and
+    // another pebble (3); the pebble met the floor, the block and the other pebble.
+    let colliders = vec![
+        Collider::rectangle(0, 4.0, 1.0, 0.5).expect("a box"),
+        Collider::disc(1, 0.05, 0.5),
+        Collider::rectangle(2, 1.0, 0.5, 0.5).expect("a box"),
+        Collider::disc(3, 0.05, 0.5),
+    ];
+    let pairs = [(0, 1), (1, 2), (1, 3)];
+    let with_block = |mass: f64| {
+        [0.0, 1.0 / 0.01, 1.0 / mass, 1.0 / 0.01].map(|m| response::Inverse {
+            mass: m,
+            inertia: 0.0,
+        })
+    };
+    // 5 kg on 10 g: 500 times its mass, past SQUEEZE_RATIO (100), whichever order the
+    // overlapping pair is named in.
+    let q = sweep::squeezed(0, 1, &colliders, &with_block(5.0), &pairs).expect("squeezed");
+    assert_eq!((q.body, q.by), (1, 2));
+    assert!((q.ratio - 500.0).abs() < 1e-4, "{}", q.ratio);
+    assert_eq!(
+        sweep::squeezed(1, 0, &colliders, &with_block(5.0), &pairs),
+        Some(q)
+    );
+    // 0.5 kg is 50 times the pebble's mass: an overlap then is not put down to it.
+    assert_eq!(
+        sweep::squeezed(0, 1, &colliders, &with_block(0.5), &pairs),
+        None
+    );
+    // Two pebbles: the first is the light one (equal masses), and the block it met
+    // is the heaviest moving body; a static floor never counts as the heavier one.
+    let q = sweep::squeezed(1, 3, &colliders, &with_block(5.0), &pairs).expect("squeezed");
+    assert_eq!((q.body, q.by), (1, 2));
+    assert_eq!(
+        sweep::squeezed(0, 3, &colliders, &with_block(5.0), &[(0, 3)]),
+        None
+    );
+}
