@@ -51,6 +51,7 @@ mod relax;
 pub mod response;
 mod sleep;
 pub mod solver;
+mod squeeze;
 mod sweep;
 pub mod toi;
 mod warm;

@@ -209,24 +209,24 @@ fn a_light_body_left_overlapping_beside_a_far_heavier_one_is_reported_squeezed()
     };
     // 5 kg on 10 g: 500 times its mass, past SQUEEZE_RATIO (100), whichever order the
     // overlapping pair is named in.
-    let q = sweep::squeezed(0, 1, &colliders, &with_block(5.0), &pairs).expect("squeezed");
+    let q = squeeze::squeezed(0, 1, &colliders, &with_block(5.0), &pairs).expect("squeezed");
     assert_eq!((q.body, q.by), (1, 2));
     assert!((q.ratio - 500.0).abs() < 1e-4, "{}", q.ratio);
     assert_eq!(
-        sweep::squeezed(1, 0, &colliders, &with_block(5.0), &pairs),
+        squeeze::squeezed(1, 0, &colliders, &with_block(5.0), &pairs),
         Some(q)
     );
     // 0.5 kg is 50 times the pebble's mass: an overlap then is not put down to it.
     assert_eq!(
-        sweep::squeezed(0, 1, &colliders, &with_block(0.5), &pairs),
+        squeeze::squeezed(0, 1, &colliders, &with_block(0.5), &pairs),
         None
     );
     // Two pebbles: the first is the light one (equal masses), and the block it met
     // is the heaviest moving body; a static floor never counts as the heavier one.
-    let q = sweep::squeezed(1, 3, &colliders, &with_block(5.0), &pairs).expect("squeezed");
+    let q = squeeze::squeezed(1, 3, &colliders, &with_block(5.0), &pairs).expect("squeezed");
     assert_eq!((q.body, q.by), (1, 2));
     assert_eq!(
-        sweep::squeezed(0, 3, &colliders, &with_block(5.0), &[(0, 3)]),
+        squeeze::squeezed(0, 3, &colliders, &with_block(5.0), &[(0, 3)]),
         None
     );
 }
