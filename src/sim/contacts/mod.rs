@@ -195,7 +195,7 @@ pub struct Overlap {
 }
 
 /// A light body pressed by a far heavier one against another: what an overlap it is
-/// left in is put down to (see `sweep.rs`'s `squeezed`).
+/// left in is put down to (see `squeeze.rs`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Squeezed {
     /// The scene's index of the light body.
