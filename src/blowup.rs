@@ -113,13 +113,22 @@ pub fn blow_up_message(scene: &Scene, b: &BlowUp) -> String {
             &scene.bodies[q.body as usize].name,
             &scene.bodies[q.by as usize].name,
         );
-        let because = if o.crowded {
-            format!(", because the step met more impacts than it answers ({IMPACTS_PER_BODY} per colliding body)")
+        // Left by the impacts, the step ran out of them, which more solver sweeps do
+        // not change; left by the resting solver, more sweeps carry the push further.
+        let (because, sweeps) = if o.crowded {
+            (
+                format!(", because the step met more impacts than it answers ({IMPACTS_PER_BODY} per colliding body)"),
+                String::new(),
+            )
         } else {
-            String::new()
+            let now = scene.contacts.as_ref().map_or(0, |c| c.resting.iterations);
+            (
+                String::new(),
+                format!("raise [contacts] `iterations` (the resting solver's sweeps a step, {now} now) toward the ratio, "),
+            )
         };
         return format!(
-            "the simulation stopped: bodies `{}` and `{}` overlap by {:e} after step {} (t = {}), deeper than their contact tolerance{because}: body `{light}` is pressed by `{heavy}`, {} times its mass, and impulses one pair at a time hold a light body under a far heavier one only by passing the push between them about as many times as that ratio; integrator {integrator}, dt = {}\nhint: bring the masses of `{light}` and `{heavy}` closer (ratios of a few hundred or more are past what a step answers), or leave the light bodies out of [contacts] `bodies`",
+            "the simulation stopped: bodies `{}` and `{}` overlap by {:e} after step {} (t = {}), deeper than their contact tolerance{because}: body `{light}` is pressed by `{heavy}`, {} times its mass, and impulses one pair at a time hold a light body under a far heavier one only by passing the push between them about as many times as that ratio; integrator {integrator}, dt = {}\nhint: {sweeps}bring the masses of `{light}` and `{heavy}` closer (ratios of a few hundred or more are past what a step answers), or leave the light bodies out of [contacts] `bodies`",
             scene.bodies[o.a].name,
             scene.bodies[o.b].name,
             o.depth,
@@ -222,6 +231,14 @@ shape = { circle = { radius = 0.5 } }
                 "{m}"
             );
             assert_eq!(m.contains("per colliding body"), crowded, "{m}");
+            // More sweeps help only an overlap the resting solver left.
+            assert_eq!(
+                m.contains(
+                    "raise [contacts] `iterations` (the resting solver's sweeps a step, 25 now)"
+                ),
+                !crowded,
+                "{m}"
+            );
             assert!(!m.contains("a smaller dt"), "{m}");
             assert!(!m.contains("closer to where they come to rest"), "{m}");
         }
