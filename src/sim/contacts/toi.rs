@@ -314,7 +314,14 @@ fn sample(a: &Collider, pa: &Path, b: &Collider, pb: &Path, from: f64, lim: Limi
     let fine = 0.25 * lim.tol / motion_bound(a, pa, b, pb);
     let mut prev = from;
     while prev < 1.0 {
-        let next = (prev + stride).min(1.0);
+        // A search that starts a hair before the step's end has a stride below the
+        // spacing of f64 there, and prev + stride would stay prev for ever: the step's
+        // end is then the next instant.
+        let next = if prev + stride > prev {
+            (prev + stride).min(1.0)
+        } else {
+            1.0
+        };
         if hit(next) {
             // An instant after `prev` (which is not one) that is, within `fine` of
             // the first, by halving.

@@ -237,6 +237,36 @@ fn a_resting_bar_that_swings_its_far_end_down_is_still_caught() {
 }
 
 #[test]
+fn a_sampling_that_starts_a_hair_before_the_step_ends_finishes() {
+    // The swinging bar of the test above, sampled from the largest f64 below 1: the
+    // stride, (1 - λ)/16, is below the spacing of f64 there, so stepping by it never
+    // left λ and the search never ended (a user's scene of spinning needles hung in
+    // one step). The step's end is the only instant left, and it is tested once.
+    let bar = Collider::rectangle(0, 2.0, 0.2, 1.0).expect("a box");
+    let floor = Collider::rectangle(1, 6.0, 0.4, 1.0).expect("a box");
+    let pf = moving(DVec2::new(0.0, -0.2), DVec2::ZERO);
+    let mut pb = turning(DVec2::new(0.0, 0.2), 0.05, DVec2::ZERO, -0.2);
+    place(&bar, &mut pb, &floor, &pf, -1e-5);
+    let lim = Limits {
+        tol: TOL,
+        rest: REST,
+    };
+    let from = 1.0 - f64::EPSILON / 2.0;
+    assert!(from < 1.0 && from + (1.0 - from) / MIN_SAMPLES == from);
+    HITS.with(|c| c.set(0));
+    let found = sample(&bar, &pb, &floor, &pf, from, lim);
+    assert_eq!(HITS.with(|c| c.get()), 1);
+    // By the step's end the right corner has struck: that instant is the impact.
+    assert_eq!(found, Some(1.0));
+    // The same bar a metre above the floor: no instant is a hit, so only the step's
+    // end ends the search.
+    let high = turning(DVec2::new(0.0, 1.2), 0.05, DVec2::ZERO, -0.2);
+    HITS.with(|c| c.set(0));
+    assert_eq!(sample(&bar, &high, &floor, &pf, from, lim), None);
+    assert_eq!(HITS.with(|c| c.get()), 1);
+}
+
+#[test]
 fn a_fast_polygon_is_never_let_through_a_thin_wall() {
     // Octagons, pentagons and triangles of a user's scene, thrown at 0.6 to 1.3
     // m a step (150 to 300 m/s at dt = 1/240 s) and spinning, at a static wall
