@@ -186,13 +186,12 @@ fn a_disc_rolling_on_a_floor_is_answered_without_sampling() {
     assert_eq!((sampled, hit), (0, None));
 }
 
-#[test]
-fn a_resting_bar_that_swings_its_far_end_down_is_still_caught() {
-    // A 2 × 0.2 bar resting on a floor on its left corner, tilted by 0.05 rad, and
-    // turning clockwise about its centre by 0.2 rad in the step: the left corner
-    // lifts, so the pair touches and parts at λ = 0, and the right corner (about
-    // 0.1 above the floor) comes down at some 0.2 per unit λ, far above the
-    // resting speed, and strikes within the step.
+/// A 2 × 0.2 bar resting on a floor on its left corner, tilted by 0.05 rad, and
+/// turning clockwise about its centre by 0.2 rad in the step: the left corner lifts,
+/// so the pair touches and parts at λ = 0, and the right corner (about 0.1 above the
+/// floor) comes down at some 0.2 per unit λ, far above the resting speed, and strikes
+/// within the step. Returns the bar, the floor, their paths and the limits.
+fn swinging_bar() -> (Collider, Collider, Path, Path, Limits) {
     let bar = Collider::rectangle(0, 2.0, 0.2, 1.0).expect("a box");
     let floor = Collider::rectangle(1, 6.0, 0.4, 1.0).expect("a box");
     let pf = moving(DVec2::new(0.0, -0.2), DVec2::ZERO);
@@ -202,6 +201,12 @@ fn a_resting_bar_that_swings_its_far_end_down_is_still_caught() {
         tol: TOL,
         rest: REST,
     };
+    (bar, floor, pb, pf, lim)
+}
+
+#[test]
+fn a_resting_bar_that_swings_its_far_end_down_is_still_caught() {
+    let (bar, floor, pb, pf, lim) = swinging_bar();
     let s = separation(&bar, &pb.pose(0.0), &floor, &pf.pose(0.0)).expect("answers");
     assert!(!rests(&bar, &pb, &floor, &pf, 0.0, s.normal, s.gap, lim));
     HITS.with(|c| c.set(0));
@@ -238,19 +243,11 @@ fn a_resting_bar_that_swings_its_far_end_down_is_still_caught() {
 
 #[test]
 fn a_sampling_that_starts_a_hair_before_the_step_ends_finishes() {
-    // The swinging bar of the test above, sampled from the largest f64 below 1: the
+    // The swinging bar, sampled from the largest f64 below 1: the
     // stride, (1 - λ)/16, is below the spacing of f64 there, so stepping by it never
     // left λ and the search never ended (a user's scene of spinning needles hung in
     // one step). The step's end is the only instant left, and it is tested once.
-    let bar = Collider::rectangle(0, 2.0, 0.2, 1.0).expect("a box");
-    let floor = Collider::rectangle(1, 6.0, 0.4, 1.0).expect("a box");
-    let pf = moving(DVec2::new(0.0, -0.2), DVec2::ZERO);
-    let mut pb = turning(DVec2::new(0.0, 0.2), 0.05, DVec2::ZERO, -0.2);
-    place(&bar, &mut pb, &floor, &pf, -1e-5);
-    let lim = Limits {
-        tol: TOL,
-        rest: REST,
-    };
+    let (bar, floor, pb, pf, lim) = swinging_bar();
     let from = 1.0 - f64::EPSILON / 2.0;
     assert!(from < 1.0 && from + (1.0 - from) / MIN_SAMPLES == from);
     HITS.with(|c| c.set(0));
